@@ -1,0 +1,97 @@
+"""Numba set-up shared by every compiled kernel.
+
+* Compiled code is cached on disk. Numba's cache only notices edits to the file of
+  the cached function itself, not to the functions it calls in other modules, so the
+  cache directory is keyed by a hash of all granum sources: any edit to granum starts
+  a fresh cache and a stale kernel can never be loaded.
+* :func:`kernel` compiles one Python function twice, serially and with ``prange``
+  parallelism. Callers pick the variant by problem size only (never by thread
+  count), so results are bitwise independent of the number of threads.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import pathlib
+import shutil
+import types
+
+_PKG = pathlib.Path(__file__).resolve().parent
+
+
+def source_hash() -> str:
+    """Hash of the text of every granum source file (16 hex digits)."""
+    h = hashlib.sha256()
+    for p in sorted(_PKG.rglob("*.py")):
+        h.update(p.relative_to(_PKG).as_posix().encode())
+        h.update(p.read_bytes())
+    return h.hexdigest()[:16]
+
+
+def cache_root() -> pathlib.Path:
+    """Directory that holds granum's caches (``$GRANUM_CACHE_DIR`` or ``~/.cache/granum``)."""
+    base = os.environ.get("GRANUM_CACHE_DIR") or os.path.join(
+        os.environ.get("XDG_CACHE_HOME") or os.path.expanduser("~/.cache"), "granum")
+    return pathlib.Path(base)
+
+
+SOURCE_HASH = source_hash()
+CACHE_DIR = cache_root() / SOURCE_HASH
+
+
+def _prune_old_caches(keep: int = 3) -> None:
+    """Remove cache directories of older granum sources, keeping the newest few."""
+    root = cache_root()
+    try:
+        dirs = sorted((d for d in root.iterdir() if d.is_dir() and d.name != SOURCE_HASH),
+                      key=lambda d: d.stat().st_mtime, reverse=True)
+    except OSError:
+        return
+    for d in dirs[keep:]:
+        shutil.rmtree(d, ignore_errors=True)
+
+
+def _configure_numba() -> None:
+    import numba
+
+    if not os.environ.get("NUMBA_CACHE_DIR"):
+        CACHE_DIR.mkdir(parents=True, exist_ok=True)
+        numba.config.CACHE_DIR = str(CACHE_DIR / "numba")
+        _prune_old_caches()
+
+
+_configure_numba()
+
+from numba import njit, prange  # noqa: E402  (after the cache directory is configured)
+
+#: Loops shorter than this run serially: below it, waking the thread pool costs more
+#: than the loop. The choice depends on the size only, so it never changes results.
+PARALLEL_THRESHOLD = 4096
+
+
+def jit(fn=None, **kw):
+    """``numba.njit`` with granum's defaults (on-disk cache, no Python fallback)."""
+    opts = dict(cache=True, nogil=True)
+    opts.update(kw)
+    if fn is None:
+        return lambda f: njit(**opts)(f)
+    return njit(**opts)(fn)
+
+
+def kernel(fn):
+    """Compile ``fn`` (which loops with ``prange``) serially and in parallel.
+
+    Returns ``(serial, parallel)`` dispatchers. Both compute identical results as
+    long as every ``prange`` iteration writes only its own outputs (no reductions
+    across iterations), which granum's kernels guarantee. The parallel variant is
+    compiled from a renamed copy of ``fn`` so that the two never share a cache file.
+    """
+    twin = types.FunctionType(fn.__code__, fn.__globals__, fn.__name__ + "_parallel",
+                              fn.__defaults__, fn.__closure__)
+    twin.__qualname__ = fn.__qualname__ + "_parallel"
+    twin.__module__ = fn.__module__
+    return jit(fn), jit(twin, parallel=os.environ.get("GRANUM_NOPAR") is None)
+
+
+__all__ = ["jit", "kernel", "njit", "prange", "PARALLEL_THRESHOLD", "CACHE_DIR", "SOURCE_HASH"]

@@ -1,0 +1,114 @@
+"""The ``granum`` command: run a YADE script headless, or open an interactive prompt.
+
+``granum script.py [args]`` runs the script in a YADE namespace and exits when it
+returns (like ``yade -n -x``); ``-j N`` sets the number of compute threads;
+``granum`` alone opens an IPython prompt with the same namespace.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib.abc
+import importlib.util
+import os
+import sys
+import types
+
+
+class _YadeAlias(importlib.abc.MetaPathFinder, importlib.abc.Loader):
+    """Resolve ``yade`` and ``yade.*`` to ``granum.yade`` (installed by the launcher only)."""
+
+    def find_spec(self, fullname, path=None, target=None):
+        if fullname == "yade" or fullname.startswith("yade."):
+            return importlib.util.spec_from_loader(fullname, self)
+        return None
+
+    def create_module(self, spec):
+        return importlib.import_module("granum." + spec.name)
+
+    def exec_module(self, module):
+        sys.modules[module.__spec__.name] = module
+
+
+def install_yade_alias() -> None:
+    """Let scripts ``import yade`` (this process only; a real YADE elsewhere is not shadowed)."""
+    if not any(isinstance(f, _YadeAlias) for f in sys.meta_path):
+        sys.meta_path.insert(0, _YadeAlias())
+
+
+def _parser() -> argparse.ArgumentParser:
+    from granum import __version__
+
+    p = argparse.ArgumentParser(prog="granum", description="Run a YADE script with granum.")
+    p.add_argument("-j", "--threads", type=int, default=None, help="number of compute threads (default: all cores)")
+    p.add_argument("-n", action="store_true", help="accepted for YADE compatibility (granum is always headless)")
+    p.add_argument("-x", action="store_true", help="accepted for YADE compatibility (exit when the script ends)")
+    p.add_argument("--version", action="version", version=f"granum {__version__}")
+    p.add_argument("script", nargs="?", help="YADE script to run")
+    p.add_argument("args", nargs=argparse.REMAINDER, help="arguments passed to the script as sys.argv[1:]")
+    return p
+
+
+def _set_threads(n: int | None) -> None:
+    if n is None:
+        return
+    if n < 1:
+        raise SystemExit("granum: -j needs a positive number of threads")
+    # numba fixes the size of its thread pool when it is first imported
+    os.environ["NUMBA_NUM_THREADS"] = str(max(n, os.cpu_count() or 1))
+    import numba
+
+    numba.set_num_threads(n)
+
+
+def run_script(path: str, argv: list[str]) -> None:
+    """Execute a YADE script as ``__main__`` with the YADE namespace."""
+    install_yade_alias()
+    import granum.yade as gy
+
+    with open(path, encoding="utf-8") as fh:
+        source = fh.read()
+    module = types.ModuleType("__main__")
+    module.__dict__.update(gy.namespace())
+    module.__file__ = os.path.abspath(path)
+    module.__builtins__ = __builtins__
+    sys.modules["__main__"] = module
+    sys.argv = [path] + list(argv)
+    sys.path.insert(0, os.path.dirname(os.path.abspath(path)))
+    gy.O._namespace = module.__dict__
+    exec(compile(source, path, "exec"), module.__dict__)
+
+
+def interactive() -> None:
+    """An interactive prompt with the YADE namespace (IPython when installed)."""
+    install_yade_alias()
+    import granum.yade as gy
+
+    ns = gy.namespace()
+    gy.O._namespace = ns
+    banner = "granum: YADE-compatible DEM. O, utils, pack, plot ... are available."
+    try:
+        from IPython import start_ipython
+    except ImportError:
+        import code
+
+        code.interact(banner=banner, local=ns)
+        return
+    start_ipython(argv=[], user_ns=ns, display_banner=False)
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = _parser().parse_args(argv)
+    _set_threads(args.threads)
+    if args.script is None:
+        interactive()
+        return 0
+    if not os.path.exists(args.script):
+        print(f"granum: no such script: {args.script}", file=sys.stderr)
+        return 2
+    run_script(args.script, args.args)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

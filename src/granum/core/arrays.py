@@ -1,0 +1,56 @@
+"""The bundle of scene arrays handed to compiled kernels.
+
+Kernels never see Python objects: the scene packs its tables into one record
+(:data:`SCENE`, see :mod:`granum.core.records`) before each run.
+Scalars that kernels update (time, step) live in small arrays so that compiled code
+can write them in place.
+"""
+
+from __future__ import annotations
+
+from granum.core.bodies import BODY_COLUMNS
+from granum.core.records import RecordSpec
+from granum.core.shapes import SHAPE_COLUMNS
+
+# ---- float scalars: scal ---------------------------------------------------------
+S_DT = 0           # time step [s]
+S_TIME = 1         # simulated time [s]
+S_VERLET = 2       # Verlet distance of the current bounds [m]
+S_MAX_DISP = 3     # largest displacement since the bounds were computed [m]
+NSCAL = 4
+
+# ---- integer scalars: iscal ------------------------------------------------------
+I_ITER = 0         # step counter
+I_TRACK_ENERGY = 1  # 1 when O.trackEnergy
+I_NBODIES = 2      # number of body ids in use (len(O.bodies))
+I_PERIODIC = 3     # 1 when the scene is periodic
+NISCAL = 4
+
+# ---- energy slots: energy[E_*], energy_set[E_*] -------------------------------------
+ENERGY_NAMES = ("kinetic", "gravWork", "nonviscDamp", "elastPotential", "plastDissip")
+E_KINETIC, E_GRAV_WORK, E_NONVISC_DAMP, E_ELAST_POT, E_PLAST_DISSIP = range(5)
+# instantaneous terms are recomputed every step; the others accumulate
+ENERGY_RESET = (True, False, False, True, False)
+NENERGY = len(ENERGY_NAMES)
+
+def _scene_fields() -> list[tuple[str, str, int]]:
+    fields = [(c.name, c.dtype, 1 + len(c.tail)) for c in BODY_COLUMNS]
+    for kind, cols in SHAPE_COLUMNS.items():
+        fields += [(f"{kind.name.lower()}_{c.name}", c.dtype, 1 + len(c.tail)) for c in cols]
+    fields += [
+        ("mat_kind", "i4", 1),      # material class code of each material row, (M,)
+        ("mat", "f8", 2),           # material parameters, columns named by the registry, (M, ncol)
+        ("cell_hsize", "f8", 2),    # periodic cell base vectors as columns [m], (3, 3)
+        ("cell_velgrad", "f8", 2),  # velocity gradient of the cell [1/s], (3, 3)
+        ("scal", "f8", 1),          # float scalars S_*, (NSCAL,)
+        ("iscal", "i8", 1),         # integer scalars I_*, (NISCAL,)
+        ("energy", "f8", 1),        # energy terms E_* [J], (NENERGY,)
+        ("energy_set", "u1", 1),    # 1 once a term has been computed, (NENERGY,)
+    ]
+    return fields
+
+
+#: The record of all scene arrays passed to kernels: body columns (see
+#: :data:`granum.core.bodies.BODY_COLUMNS`), shape tables as ``<kind>_<column>``,
+#: materials, cell, scalars and energies.
+SCENE = RecordSpec("SceneArrays", _scene_fields())

@@ -1,0 +1,153 @@
+"""Objects with declared attributes, constructed by keyword like YADE's classes.
+
+YADE objects accept their attributes as constructor keywords (``NewtonIntegrator(
+damping=.4)``), expose them for reading and writing, and list them with ``.dict()``.
+:class:`Attributed` does the same for granum's engines, functors and materials and
+rejects names it does not declare, so that a typo (``dampin=.4``) is an error
+instead of a silently ignored setting.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+
+
+class Attr:
+    """Declaration of an attribute: default value, optional converter and documentation.
+
+    ``convert(owner, value)`` validates/converts an assigned value and may raise
+    ``ValueError``/``TypeError`` with a message naming the attribute.
+    """
+
+    def __init__(self, default=None, doc: str = "", convert=None, readonly: bool = False):
+        self.default = default
+        self.doc = doc
+        self.convert = convert
+        self.readonly = readonly
+
+
+def _suggest(name: str, known) -> str:
+    close = difflib.get_close_matches(name, list(known), n=1)
+    return f" (did you mean {close[0]!r}?)" if close else ""
+
+
+class Attributed:
+    """Base of objects whose attributes are declared in the class-level ``_attrs`` dict.
+
+    ``_attrs`` of a subclass extends those of its bases. Values are kept in the
+    instance ``__dict__``; assigning an undeclared name raises ``AttributeError``.
+    """
+
+    _attrs: dict[str, Attr] = {}
+
+    def __init_subclass__(cls, **kw):
+        super().__init_subclass__(**kw)
+        merged = {}
+        for base in reversed(cls.__mro__[1:]):
+            merged.update(getattr(base, "_attrs", {}))
+        merged.update(cls.__dict__.get("_attrs", {}))
+        cls._attrs = merged
+
+    def __init__(self, **kw):
+        for name, a in self._attrs.items():
+            object.__setattr__(self, name, _copy_default(a.default))
+        for name, value in kw.items():
+            if name not in self._attrs and not self._has_property(name):
+                raise TypeError(f"{type(self).__name__}() got an unexpected keyword argument {name!r}"
+                                f"{_suggest(name, self._known())}")
+            setattr(self, name, value)
+
+    @classmethod
+    def _has_property(cls, name: str) -> bool:
+        return isinstance(getattr(cls, name, None), property)
+
+    @classmethod
+    def _known(cls):
+        return list(cls._attrs) + [n for n in dir(cls) if not n.startswith("_")]
+
+    def __setattr__(self, name, value):
+        a = self._attrs.get(name)
+        if a is None:
+            if name.startswith("_") or self._has_property(name):
+                object.__setattr__(self, name, value)
+                return
+            raise AttributeError(f"{type(self).__name__} has no attribute {name!r}{_suggest(name, self._known())}")
+        if a.readonly:
+            raise AttributeError(f"{type(self).__name__}.{name} is read-only")
+        if a.convert is not None:
+            value = a.convert(self, value)
+        object.__setattr__(self, name, value)
+        self._changed(name)
+
+    def _changed(self, name: str) -> None:
+        """Hook called after a declared attribute is assigned."""
+
+    def dict(self) -> dict:
+        """All declared attributes and their values (YADE's ``.dict()``)."""
+        return {name: getattr(self, name) for name in self._attrs}
+
+    def updateAttrs(self, values: dict) -> None:
+        """Assign several attributes; unknown names raise."""
+        for k, v in values.items():
+            setattr(self, k, v)
+
+    def updateExistingAttrs(self, values: dict) -> None:
+        """Assign the attributes of ``values`` that exist; ignore the others."""
+        for k, v in values.items():
+            if k in self._attrs:
+                setattr(self, k, v)
+
+    def clone(self):
+        """A new object of the same class with the same attribute values."""
+        return type(self)(**{k: v for k, v in self.dict().items() if not self._attrs[k].readonly})
+
+    def __repr__(self):
+        return f"<{type(self).__name__} instance at {hex(id(self))}>"
+
+
+def _copy_default(v):
+    if isinstance(v, list):
+        return list(v)
+    if isinstance(v, dict):
+        return dict(v)
+    return v
+
+
+def to_float(name: str, positive: bool = False, allow_nan: bool = True):
+    """Converter to float that names the attribute in its error messages."""
+
+    def convert(owner, value):
+        try:
+            x = float(value)
+        except (TypeError, ValueError):
+            raise TypeError(f"{type(owner).__name__}.{name} must be a number, got {value!r}") from None
+        if math.isnan(x) and not allow_nan:
+            raise ValueError(f"{type(owner).__name__}.{name} must not be NaN")
+        if positive and not x > 0:
+            raise ValueError(f"{type(owner).__name__}.{name} must be positive, got {x!r}")
+        return x
+
+    return convert
+
+
+def to_int(name: str):
+    def convert(owner, value):
+        if isinstance(value, bool) or not float(value).is_integer():
+            raise TypeError(f"{type(owner).__name__}.{name} must be an integer, got {value!r}")
+        return int(value)
+
+    return convert
+
+
+def to_bool(owner, value):
+    return bool(value)
+
+
+def to_str(name: str):
+    def convert(owner, value):
+        if not isinstance(value, str):
+            raise TypeError(f"{type(owner).__name__}.{name} must be a string, got {value!r}")
+        return value
+
+    return convert

@@ -1,0 +1,83 @@
+"""Per-body storage: kinematic state, mass properties, flags and force accumulators.
+
+One row per body id; a body keeps its row for its whole life (erased bodies keep a
+dead row, so ids never move). ``N`` below is the table's capacity; rows at and past
+``count`` are unused.
+"""
+
+from __future__ import annotations
+
+from enum import IntEnum
+
+from granum.core.table import Column, Table
+
+
+class ShapeKind(IntEnum):
+    """Kind of a body's shape; selects the shape table that ``shape_row`` indexes."""
+
+    NONE = 0
+    SPHERE = 1
+    FACET = 2
+    WALL = 3
+    BOX = 4
+    CLUMP = 5
+
+
+#: Bits of ``body_blocked`` in YADE's ``blockedDOFs`` letter order ``xyzXYZ``.
+DOF_LETTERS = "xyzXYZ"
+DOF_ALL = 0b111111
+
+
+def dofs_from_string(s: str) -> int:
+    """Bit mask of the blocked degrees of freedom named in ``s`` (subset of ``'xyzXYZ'``)."""
+    bits = 0
+    for ch in s:
+        k = DOF_LETTERS.find(ch)
+        if k < 0:
+            raise ValueError(f"blockedDOFs: invalid letter {ch!r} in {s!r}; use letters from 'xyzXYZ'")
+        bits |= 1 << k
+    return bits
+
+
+def dofs_to_string(bits: int) -> str:
+    """YADE's string form of a blocked-DOF bit mask."""
+    return "".join(ch for k, ch in enumerate(DOF_LETTERS) if bits >> k & 1)
+
+
+BODY_COLUMNS = (
+    Column("pos", (3,), "f8", 0.0, "Centre of mass (sphere/box centre, facet inscribed-circle centre) [m], (N, 3)."),
+    Column("vel", (3,), "f8", 0.0, "Linear velocity at the last mid-step [m/s], (N, 3)."),
+    Column("ori", (4,), "f8", (1.0, 0.0, 0.0, 0.0),
+           "Orientation quaternion (w, x, y, z), local to global [-], (N, 4)."),
+    Column("ang_vel", (3,), "f8", 0.0, "Angular velocity in the global frame [rad/s], (N, 3)."),
+    Column("ang_mom", (3,), "f8", 0.0, "Angular momentum in the global frame (aspherical bodies) [kg m^2/s], (N, 3)."),
+    Column("mass", (), "f8", 0.0, "Mass [kg], (N,)."),
+    Column("inertia", (3,), "f8", 0.0, "Principal moments of inertia in the local frame [kg m^2], (N, 3)."),
+    Column("blocked", (), "u1", 0, "Blocked degrees of freedom, bit k = letter k of 'xyzXYZ', (N,)."),
+    Column("is_damped", (), "?", True, "Whether NewtonIntegrator's damping acts on the body, (N,)."),
+    Column("aspherical", (), "?", False, "Integrate rotation with the full inertia tensor (Euler's equations), (N,)."),
+    Column("ref_pos", (3,), "f8", 0.0, "Reference position for displacement measures [m], (N, 3)."),
+    Column("ref_ori", (4,), "f8", (1.0, 0.0, 0.0, 0.0), "Reference orientation (w, x, y, z), (N, 4)."),
+    Column("alive", (), "?", False, "False for erased ids and unused rows, (N,)."),
+    Column("shape_kind", (), "i1", 0, "ShapeKind of the body, (N,)."),
+    Column("shape_row", (), "i4", -1, "Row of the body's shape in the table of its kind, (N,)."),
+    Column("material", (), "i4", -1, "Row of the body's material in the scene's material table, (N,)."),
+    Column("mask", (), "i8", 1, "Group mask; two bodies interact only if mask1 & mask2 != 0, (N,)."),
+    Column("clump_id", (), "i4", -1, "Id of the clump the body belongs to, -1 if none, (N,)."),
+    Column("color", (3,), "f8", 1.0, "Display colour, RGB in [0, 1], (N, 3)."),
+    Column("wire", (), "?", False, "Display as wire frame, (N,)."),
+    Column("highlight", (), "?", False, "Display highlighted, (N,)."),
+    Column("force", (3,), "f8", 0.0, "Force accumulated during the current step [N], (N, 3)."),
+    Column("torque", (3,), "f8", 0.0, "Torque accumulated during the current step [N m], (N, 3)."),
+    Column("perm_force", (3,), "f8", 0.0, "Permanent force, survives ForceResetter [N], (N, 3)."),
+    Column("perm_torque", (3,), "f8", 0.0, "Permanent torque, survives ForceResetter [N m], (N, 3)."),
+    Column("bound_min", (3,), "f8", 0.0, "Lower corner of the axis-aligned bound incl. Verlet distance [m], (N, 3)."),
+    Column("bound_max", (3,), "f8", 0.0, "Upper corner of the axis-aligned bound incl. Verlet distance [m], (N, 3)."),
+    Column("bound_pos", (3,), "f8", 0.0, "Position when the bound was last computed [m], (N, 3)."),
+    Column("bound_ori", (4,), "f8", (1.0, 0.0, 0.0, 0.0), "Orientation when the bound was last computed, (N, 4)."),
+)
+
+
+def new_body_table(capacity: int = 8) -> Table:
+    """An empty body table (see :data:`BODY_COLUMNS` for the columns)."""
+    return Table(BODY_COLUMNS, capacity)

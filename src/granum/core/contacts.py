@@ -1,0 +1,132 @@
+"""Interaction storage: a light list of potential pairs and a pool of real contacts.
+
+YADE distinguishes *potential* interactions (the bounds of two bodies overlap) from
+*real* ones (the contact geometry exists and a law acts). In a dense packing most
+potential pairs are never real, so granum keeps them apart:
+
+``pair_ids``  (P, 2) int32
+    Potential pairs found by the collider, sorted by (min id, max id). Rebuilt only
+    when the collider runs.
+``pair_con``  (P,) int32
+    Index of the pair's real contact in the pool, or -1.
+``con_i``, ``con_f``  (K, NI) int32 and (K, NF) float64
+    The pool of real contacts, one row per contact (all columns of a contact are
+    adjacent in memory, which suits the per-contact loop). Column offsets are the
+    ``I_*`` and ``F_*`` constants below; laws may declare extra history columns,
+    appended after the core ones.
+``csr_start``, ``csr_con``  (N+1,) and (2K,) int32
+    For each body, the indices of its live contacts in increasing order. Forces are
+    gathered per body through this index, so the summation order is fixed and
+    results do not depend on the number of threads.
+``ctr``  (NCTR,) int64
+    Counters and status flags (``C_*`` constants).
+
+Contacts are appended in the order their pairs became real (pair order within a
+step) and removed by stable compaction, so the pool order is deterministic.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from granum.core.records import RecordSpec
+
+# ---- integer columns of con_i -------------------------------------------------
+I_ID1 = 0        # body id 1 (in the order the geometry functor expects, e.g. facet first)
+I_ID2 = 1        # body id 2
+I_PAIR = 2       # index of the potential pair in pair_ids, -1 if none
+I_FLAGS = 3      # FLAG_* bits
+I_GEOM = 4       # code of the geometry functor
+I_PHYS = 5       # code of the physics functor
+I_LAW = 6        # code of the law functor
+I_CELL = 7       # 7, 8, 9: periodic image of body 2 (YADE cellDist)
+I_BORN = 10      # step at which the contact became real
+NI = 11
+
+# ---- float columns of con_f -------------------------------------------------------
+F_NORMAL = 0       # 0..2  unit normal from body 1 to body 2 [-]
+F_PREV_NORMAL = 3  # 3..5  normal at the previous step [-]
+F_PEN = 6          # penetration depth, > 0 when overlapping [m]
+F_POINT = 7        # 7..9  contact point [m]
+F_R1 = 10          # reference radius of body 1 (ScGeom radius1) [m]
+F_R2 = 11          # reference radius of body 2 (ScGeom radius2) [m]
+F_KN = 12          # normal stiffness [N/m]
+F_KS = 13          # shear stiffness [N/m]
+F_TANPHI = 14      # tangent of the friction angle [-]
+F_CN = 15          # normal viscous damping coefficient [N s/m]
+F_CS = 16          # shear viscous damping coefficient [N s/m]
+F_FN = 17          # 17..19 normal force on body 2 [N]
+F_FS = 20          # 20..22 shear force on body 2 [N]
+F_E_ELAST = 23     # elastic energy stored in the contact [J]
+F_E_DISSIP = 24    # energy dissipated by friction during this step [J]
+NF = 25
+
+FLAG_ALIVE = 1     # the row holds a live contact
+FLAG_NEW = 2       # physics constants not computed yet
+FLAG_RATCHET = 4   # shear laws use the anti-ratcheting relative velocity (ScGeom)
+
+# ---- counters in ctr ---------------------------------------------------------------
+C_PAIRS = 0        # number of potential pairs
+C_CONTACTS = 1     # rows used in the pool (live and dead)
+C_DEAD = 2         # dead rows awaiting compaction
+C_CSR_DIRTY = 3    # contact set changed since the CSR index was built
+C_COLLIDE = 4      # the collider must run at the next step (set by Python on scene edits)
+C_STATUS = 5       # STATUS_* of the last step
+C_ERR_A = 6        # first value describing the error (body id or code)
+C_ERR_B = 7        # second value describing the error
+C_COLLIDER_RUNS = 8
+NCTR = 9
+
+STATUS_OK = 0
+STATUS_NO_PHYS = 1      # no IPhys functor for a material pair (ERR_A, ERR_B: body ids)
+STATUS_NO_LAW = 2       # no law functor for a geometry/physics pair (ERR_A, ERR_B: body ids)
+STATUS_NONFINITE = 3    # NaN/inf or exploding velocity (ERR_A: body id)
+STATUS_NO_GEOM = 4      # bounds of two bodies overlap, a geometry functor exists but is not listed
+
+#: Record of the interaction storage passed to kernels (see the module docstring).
+CONTACTS = RecordSpec("ContactArrays", [
+    ("pair_ids", "i4", 2), ("pair_con", "i4", 1), ("pair_hit", "u1", 1), ("con_i", "i4", 2),
+    ("con_f", "f8", 2), ("csr_start", "i4", 1), ("csr_con", "i4", 1), ("ctr", "i8", 1)])
+ContactArrays = CONTACTS.tuple
+
+
+def new_contact_arrays(n_bodies: int, pair_capacity: int = 64, contact_capacity: int = 64) -> ContactArrays:
+    """Empty interaction storage for ``n_bodies`` bodies."""
+    con_i = np.zeros((contact_capacity, NI), np.int32)
+    con_i[:, I_PAIR] = -1
+    ctr = np.zeros(NCTR, np.int64)
+    ctr[C_COLLIDE] = 1
+    return ContactArrays(
+        pair_ids=np.zeros((pair_capacity, 2), np.int32),
+        pair_con=np.full(pair_capacity, -1, np.int32),
+        pair_hit=np.zeros(pair_capacity, np.uint8),
+        con_i=con_i,
+        con_f=np.zeros((contact_capacity, NF), np.float64),
+        csr_start=np.zeros(n_bodies + 1, np.int32),
+        csr_con=np.zeros(2 * contact_capacity, np.int32),
+        ctr=ctr,
+    )
+
+
+def resize_for_bodies(C: ContactArrays, n_bodies: int) -> ContactArrays:
+    """Storage whose per-body index fits ``n_bodies`` bodies (the CSR is marked for rebuild)."""
+    if C.csr_start.shape[0] == n_bodies + 1:
+        return C
+    C.ctr[C_CSR_DIRTY] = 1
+    return C._replace(csr_start=np.zeros(n_bodies + 1, np.int32))
+
+
+def end_contact(C: ContactArrays, c: int) -> None:
+    """End live contact ``c`` from Python (body erased, interaction erased by the user).
+
+    The row is unlinked from its pair and left for compaction, exactly as when a law
+    ends a contact inside a step.
+    """
+    C.con_i[c, I_FLAGS] &= ~FLAG_ALIVE
+    p = C.con_i[c, I_PAIR]
+    if p >= 0:
+        C.pair_con[p] = -1
+    C.con_i[c, I_ID1] = -1
+    C.con_i[c, I_PAIR] = -1
+    C.ctr[C_DEAD] += 1
+    C.ctr[C_CSR_DIRTY] = 1

@@ -1,0 +1,173 @@
+"""The scene: all storage of one simulation, independent of the YADE scripting layer.
+
+A :class:`BodyStore` holds the body table, the per-kind shape tables and the
+materials the bodies refer to; a :class:`Scene` adds the interaction storage, the
+clock, the energy accumulators, the periodic cell and the engine list. Detached
+YADE objects (a ``Body`` built by ``utils.sphere`` before it is appended) keep their
+values in a one-row :class:`BodyStore` of their own, so the same code reads and
+writes attached and detached objects.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from granum.core.arrays import (
+    I_ITER,
+    I_NBODIES,
+    I_PERIODIC,
+    I_TRACK_ENERGY,
+    NENERGY,
+    NISCAL,
+    NSCAL,
+    S_DT,
+    S_TIME,
+    SCENE,
+)
+from granum.core.bodies import ShapeKind, new_body_table
+from granum.core.contacts import C_COLLIDE, new_contact_arrays, resize_for_bodies
+from granum.core.shapes import new_shape_tables
+from granum.physics import registry
+
+
+class BodyStore:
+    """Body table, shape tables and the materials referred to by ``body.material``.
+
+    ``materials`` holds material objects (anything with ``kind`` - a registered
+    material class name - and ``column_values()`` - a dict of material-table column
+    values); ``body.material`` is an index into it.
+    """
+
+    def __init__(self, capacity: int = 8):
+        self.bodies = new_body_table(capacity)
+        self.shapes = new_shape_tables(capacity)
+        self.materials: list = []
+
+    def material_index(self, material) -> int:
+        """Index of ``material`` in :attr:`materials`, appending it if new."""
+        for k, m in enumerate(self.materials):
+            if m is material:
+                return k
+        self.materials.append(material)
+        return len(self.materials) - 1
+
+    def shape_table(self, i: int):
+        """``(kind, table, row)`` of the shape of body ``i``."""
+        kind = ShapeKind(int(self.bodies.shape_kind[i]))
+        return kind, self.shapes.get(kind), int(self.bodies.shape_row[i])
+
+
+class Scene(BodyStore):
+    """Storage, clock and engines of one simulation (what YADE's ``O`` refers to)."""
+
+    def __init__(self):
+        super().__init__(capacity=64)
+        self.contacts = new_contact_arrays(0)
+        self.scal = np.zeros(NSCAL)
+        self.iscal = np.zeros(NISCAL, np.int64)
+        self.scal[S_DT] = 1e-8
+        self.energy = np.zeros(NENERGY)
+        self.energy_set = np.zeros(NENERGY, np.uint8)
+        self.cell_hsize = np.eye(3)
+        self.cell_velgrad = np.zeros((3, 3))
+        self.engines: list = []
+        self.tags: dict = {}
+        self.stop_at_iter = 0
+        self.stop_at_time = 0.0
+        self._mat_cache = None
+
+    # ---- clock ----------------------------------------------------------------------
+    @property
+    def dt(self) -> float:
+        return float(self.scal[S_DT])
+
+    @dt.setter
+    def dt(self, value: float) -> None:
+        value = float(value)
+        if not value > 0.0 or not np.isfinite(value):
+            raise ValueError(f"O.dt must be a positive finite time step in seconds, got {value!r}")
+        self.scal[S_DT] = value
+
+    @property
+    def time(self) -> float:
+        return float(self.scal[S_TIME])
+
+    @time.setter
+    def time(self, value: float) -> None:
+        self.scal[S_TIME] = float(value)
+
+    @property
+    def iter(self) -> int:
+        return int(self.iscal[I_ITER])
+
+    @iter.setter
+    def iter(self, value: int) -> None:
+        self.iscal[I_ITER] = int(value)
+
+    @property
+    def track_energy(self) -> bool:
+        return bool(self.iscal[I_TRACK_ENERGY])
+
+    @track_energy.setter
+    def track_energy(self, on: bool) -> None:
+        self.iscal[I_TRACK_ENERGY] = int(bool(on))
+
+    @property
+    def periodic(self) -> bool:
+        return bool(self.iscal[I_PERIODIC])
+
+    @periodic.setter
+    def periodic(self, on: bool) -> None:
+        self.iscal[I_PERIODIC] = int(bool(on))
+        self.needs_collider()
+
+    @property
+    def body_count(self) -> int:
+        return self.bodies.count
+
+    # ---- changes ----------------------------------------------------------------------
+    def needs_collider(self) -> None:
+        """Make the collider run at the next step (bodies or shapes changed)."""
+        self.contacts.ctr[C_COLLIDE] = 1
+
+    def clear_bodies(self) -> None:
+        """Remove all bodies and interactions; keep engines, materials and the clock."""
+        self.bodies.clear()
+        for t in self.shapes.values():
+            t.clear()
+        self.contacts = new_contact_arrays(0)
+
+    def add_body_row(self) -> int:
+        """Append a body row (all defaults); return its id."""
+        i = self.bodies.append_rows(1)
+        self.needs_collider()
+        return i
+
+    # ---- compiled view -------------------------------------------------------------------
+    def material_arrays(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(mat_kind (M,) int32, mat (M, ncol) float64)`` compiled from :attr:`materials`."""
+        key = tuple((id(m), m.version) for m in self.materials)
+        if self._mat_cache is not None and self._mat_cache[0] == key:
+            return self._mat_cache[1]
+        cols = registry.material_columns()
+        mat = np.full((max(len(self.materials), 1), len(cols)), np.nan)
+        kind = np.zeros(max(len(self.materials), 1), np.int32)
+        for k, m in enumerate(self.materials):
+            kind[k] = registry.material_code(m.kind)
+            for name, value in m.column_values().items():
+                mat[k, cols.index(name)] = value
+        self._mat_cache = (key, (kind, mat))
+        return kind, mat
+
+    def arrays(self):
+        """Record of all scene arrays for the kernels (cheap; rebuild after any edit)."""
+        b = self.bodies
+        self.iscal[I_NBODIES] = b.count
+        self.contacts = resize_for_bodies(self.contacts, b.count)
+        mat_kind, mat = self.material_arrays()
+        values = {c.name: getattr(b, c.name) for c in b.columns}
+        for kind, table in self.shapes.items():
+            values.update({f"{kind.name.lower()}_{c.name}": getattr(table, c.name) for c in table.columns})
+        values.update(mat_kind=mat_kind, mat=mat, cell_hsize=self.cell_hsize, cell_velgrad=self.cell_velgrad,
+                      scal=self.scal, iscal=self.iscal, energy=self.energy, energy_set=self.energy_set)
+        return SCENE.to_record([values[n] for n in SCENE.names])

@@ -1,0 +1,118 @@
+"""Engine base classes.
+
+An engine is one stage of the per-step pipeline. A *compiled* engine names a
+compiled stage function (``stage = "module:function"``, called as
+``stage(S, C, P)`` on the scene and contact records) and builds its parameter tuple ``P`` in :meth:`Engine.params`;
+it holds configuration only, no physics. A *Python* engine (``stage is None``)
+implements :meth:`Engine.run_python`; the runner returns to Python only at steps
+where such an engine is due.
+"""
+
+from __future__ import annotations
+
+import time
+
+from granum.core.attrs import Attr, Attributed, to_bool, to_float, to_int, to_str
+
+
+class Engine(Attributed):
+    """Base of all engines (YADE ``Engine``)."""
+
+    _attrs = {
+        "dead": Attr(False, "If True, the engine is skipped", to_bool),
+        "label": Attr("", "Name under which the engine is reachable from scripts", to_str("label")),
+        "ompThreads": Attr(-1, "Accepted for compatibility; granum's thread count is global (-j)",
+                           to_int("ompThreads")),
+        "execTime": Attr(0, "Time spent in this engine [ns] (with O.timingEnabled)"),
+        "execCount": Attr(0, "Number of times the engine ran (with O.timingEnabled)"),
+    }
+
+    #: ``"module:function"`` of the compiled stage, or None for an engine run in Python.
+    stage: str | None = None
+
+    def params(self, scene, engines) -> tuple:
+        """Parameter tuple ``P`` of the compiled stage (``engines``: the whole engine list)."""
+        return ()
+
+    def due(self, scene) -> bool:
+        """Whether a Python engine must run in the current step."""
+        return True
+
+    def run_python(self, omega) -> None:
+        """Body of a Python engine."""
+
+    def functors(self) -> list:
+        """Functor objects owned by this engine (their labels become global names too)."""
+        return []
+
+
+class GlobalEngine(Engine):
+    """Engine acting on the whole scene (YADE ``GlobalEngine``)."""
+
+
+class PartialEngine(Engine):
+    """Engine acting on the bodies listed in ``ids`` (YADE ``PartialEngine``)."""
+
+    _attrs = {"ids": Attr([], "Ids of the bodies the engine acts on", lambda o, v: [int(i) for i in v])}
+
+    def id_array(self, scene):
+        import numpy as np
+
+        ids = np.asarray(self.ids, np.int64)
+        bad = ids[(ids < 0) | (ids >= scene.body_count)]
+        if bad.size:
+            raise IndexError(f"{type(self).__name__}.ids: body id {int(bad[0])} out of range "
+                             f"(there are {scene.body_count} bodies)")
+        return ids
+
+
+class PeriodicEngine(GlobalEngine):
+    """Engine run periodically in steps, simulated time or wall-clock time (YADE ``PeriodicEngine``).
+
+    It runs in a step where any of the enabled periods has elapsed since its last
+    run (``iterPeriod`` steps, ``virtPeriod`` seconds of simulated time or
+    ``realPeriod`` seconds of wall-clock time), at most ``nDo`` times (unlimited if
+    negative). With ``initRun`` it also runs the first time it is reached.
+    """
+
+    _attrs = {
+        "iterPeriod": Attr(0, "Period in steps (0: disabled)", to_int("iterPeriod")),
+        "virtPeriod": Attr(0.0, "Period in simulated time [s] (0: disabled)", to_float("virtPeriod")),
+        "realPeriod": Attr(0.0, "Period in wall-clock time [s] (0: disabled)", to_float("realPeriod")),
+        "nDo": Attr(-1, "Maximum number of runs (negative: unlimited)", to_int("nDo")),
+        "initRun": Attr(False, "Run also the first time the engine is reached", to_bool),
+        "firstIterRun": Attr(0, "Step at which the engine may run for the first time", to_int("firstIterRun")),
+        "iterLast": Attr(0, "Step of the last run", to_int("iterLast")),
+        "virtLast": Attr(0.0, "Simulated time of the last run [s]", to_float("virtLast")),
+        "realLast": Attr(0.0, "Wall-clock time of the last run [s]", to_float("realLast")),
+        "nDone": Attr(0, "Number of runs so far", to_int("nDone")),
+    }
+
+    def __init__(self, **kw):
+        super().__init__(**kw)
+        if "realLast" not in kw:
+            self.realLast = time.time()
+
+    def due(self, scene) -> bool:
+        it = scene.iter
+        if it < self.firstIterRun or 0 <= self.nDo <= self.nDone:
+            return False
+        now = time.time()
+        run = (self.initRun and self.nDone == 0) or \
+            (self.virtPeriod > 0 and scene.time - self.virtLast >= self.virtPeriod) or \
+            (self.realPeriod > 0 and now - self.realLast >= self.realPeriod) or \
+            (self.iterPeriod > 0 and it - self.iterLast >= self.iterPeriod)
+        if run:
+            self.iterLast, self.virtLast, self.realLast = it, scene.time, now
+            self.nDone += 1
+        return run
+
+    def next_due_iter(self, scene) -> int | None:
+        """Earliest step at which the step-count criterion alone makes the engine due."""
+        if 0 <= self.nDo <= self.nDone:
+            return None
+        if self.initRun and self.nDone == 0:
+            return max(scene.iter, self.firstIterRun)
+        if self.iterPeriod > 0:
+            return max(self.iterLast + self.iterPeriod, self.firstIterRun)
+        return None

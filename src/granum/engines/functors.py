@@ -1,0 +1,89 @@
+"""Functor classes (``Bo1_*``, ``Ig2_*``, ``Ip2_*``, ``Law2_*``) generated from the registry.
+
+A functor object only carries its parameters; the physics is the registered
+compiled function. One class is generated per registered functor, named as in YADE.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from granum.core.attrs import Attr, Attributed, to_str
+from granum.kernels.dispatch import code_of, functors
+from granum.physics import registry
+
+
+class Functor(Attributed):
+    """Base of all functors (YADE ``Functor``)."""
+
+    _attrs = {"label": Attr("", "Name under which the functor is reachable from scripts", to_str("label"))}
+    spec: registry.Functor
+
+    @property
+    def code(self) -> int:
+        return code_of(self.spec.yade_name)
+
+    def numeric_params(self) -> list[float]:
+        """The functor's numeric parameters in registry order (booleans as 0/1)."""
+        out = []
+        for p in self.spec.params:
+            if isinstance(p.default, bool | int | float):
+                out.append(float(getattr(self, p.name)))
+            elif getattr(self, p.name) is not None:
+                raise NotImplementedError(f"{type(self).__name__}.{p.name} other than None is not supported yet")
+        return out
+
+
+class BoundFunctor(Functor):
+    """YADE ``BoundFunctor``."""
+
+
+class IGeomFunctor(Functor):
+    """YADE ``IGeomFunctor``."""
+
+
+class IPhysFunctor(Functor):
+    """YADE ``IPhysFunctor``."""
+
+
+class LawFunctor(Functor):
+    """YADE ``LawFunctor``."""
+
+
+_BASES = {"bound": BoundFunctor, "geom": IGeomFunctor, "phys": IPhysFunctor, "law": LawFunctor}
+
+
+def _convert_like(default):
+    if isinstance(default, bool):
+        return lambda o, v: bool(v)
+    if isinstance(default, int | float):
+        return lambda o, v: float(v)
+    return None
+
+
+def make_class(spec: registry.Functor) -> type:
+    """The YADE-named class of a registered functor."""
+    attrs = {p.name: Attr(p.default, p.doc, _convert_like(p.default)) for p in spec.params}
+    return type(spec.yade_name, (_BASES[spec.role],), {"_attrs": attrs, "spec": spec, "__doc__": spec.doc,
+                                                          "__module__": __name__})
+
+
+CLASSES = {name: make_class(spec) for name, spec in registry.FUNCTORS.items()}
+
+
+def param_table(role: str, instances) -> np.ndarray:
+    """Parameters of the functors of ``role``: row = functor code, from the given instances."""
+    specs = functors(role)
+    width = max([len(s.params) for s in specs] + [1])
+    table = np.zeros((len(specs), width))
+    for f in instances:
+        values = f.numeric_params()
+        table[f.code, : len(values)] = values
+    return table
+
+
+def check_role(f, role: str, where: str) -> None:
+    """Raise a TypeError if ``f`` is not a functor of ``role``."""
+    if not isinstance(f, _BASES[role]):
+        raise TypeError(f"{where}: expected {_BASES[role].__name__.replace('Functor', '')} functors "
+                        f"({_BASES[role].__name__}), got {f!r}")

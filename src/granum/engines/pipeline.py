@@ -1,0 +1,211 @@
+"""The engines of YADE's standard step: ForceResetter, InsertionSortCollider,
+InteractionLoop, NewtonIntegrator and GravityEngine.
+
+Each only translates its YADE attributes into the parameter tuple of a compiled
+stage (see :mod:`granum.kernels`); dispatch tables for the InteractionLoop are built
+here from the listed functors and the type hierarchies of the registry.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from granum.core.attrs import Attr, to_bool, to_float, to_int
+from granum.core.bodies import ShapeKind
+from granum.engines.base import GlobalEngine
+from granum.engines.functors import check_role, param_table
+from granum.kernels.dispatch import code_of, functors
+from granum.mathtypes import Vector3, as_vec3
+from granum.physics import registry
+
+NKINDS = len(ShapeKind)
+
+
+def to_vec3(owner, value):
+    try:
+        return Vector3(*as_vec3(value))
+    except (TypeError, ValueError) as e:
+        raise type(e)(f"{type(owner).__name__}: {e}") from None
+
+
+class ForceResetter(GlobalEngine):
+    """Reset forces and torques to their permanent values at the start of the step."""
+
+    stage = "granum.kernels.forces:reset_stage"
+
+
+class Dispatcher:
+    """A list of functors of one role (YADE's BoundDispatcher, IGeomDispatcher, ...)."""
+
+    def __init__(self, role: str, owner: str, items=()):
+        self._role, self._owner = role, owner
+        self.functors = list(items)
+
+    @property
+    def functors(self) -> list:
+        return self._functors
+
+    @functors.setter
+    def functors(self, items) -> None:
+        items = list(items)
+        for f in items:
+            check_role(f, self._role, self._owner)
+        self._functors = items
+
+    def dispMatrix(self, names: bool = True) -> dict:
+        """Which functor serves which pair of types."""
+        return {f.spec.types: type(f).__name__ for f in self._functors}
+
+
+def _dispatcher(owner, value):
+    if not isinstance(value, Dispatcher):
+        raise TypeError(f"{type(owner).__name__}: expected a dispatcher, got {value!r}")
+    return value
+
+
+class InsertionSortCollider(GlobalEngine):
+    """Broad-phase collision detection keeping the potential interactions up to date.
+
+    Bounds from the ``Bo1`` functors are enlarged by ``verletDist`` (negative: that
+    fraction of the smallest sphere radius) so that the collider only reruns when a
+    body has moved farther than that. Any algorithm that yields the pairs of bodies
+    with overlapping bounds is acceptable; granum uses a uniform grid.
+    """
+
+    stage = "granum.kernels.collider:collider_stage"
+    _attrs = {
+        "verletDist": Attr(-0.5, "Bound enlargement [m]; negative: fraction of the smallest sphere radius",
+                           to_float("verletDist")),
+        "sortAxis": Attr(0, "Accepted for compatibility", to_int("sortAxis")),
+        "allowBiggerThanPeriod": Attr(False, "Allow bodies larger than half the periodic cell", to_bool),
+        "sortThenCollide": Attr(False, "Accepted for compatibility", to_bool),
+        "targetInterv": Attr(100, "Accepted for compatibility (granum's Verlet distance is uniform)",
+                             to_int("targetInterv")),
+        "overlapTolerance": Attr(1e-7, "Accepted for compatibility", to_float("overlapTolerance")),
+        "updatingDispFactor": Attr(-1.0, "Accepted for compatibility", to_float("updatingDispFactor")),
+        "minSweepDistFactor": Attr(0.1, "Accepted for compatibility", to_float("minSweepDistFactor")),
+        "avoidSelfInteractionMask": Attr(0, "Bodies whose masks share these bits do not interact",
+                                         to_int("avoidSelfInteractionMask")),
+        "numReinit": Attr(0, "Number of full collider runs", readonly=True),
+        "boundDispatcher": Attr(None, "The bound functors (BoundDispatcher)", _dispatcher),
+    }
+
+    def __init__(self, boundFunctors=(), **kw):
+        super().__init__(**kw)
+        self.boundDispatcher = Dispatcher("bound", "InsertionSortCollider", boundFunctors)
+
+    def functors(self) -> list:
+        return list(self.boundDispatcher.functors)
+
+    def params(self, scene, engines) -> tuple:
+        bound_code = np.full(NKINDS, -1, np.int32)
+        for f in self.boundDispatcher.functors:
+            bound_code[f.spec.types[0]] = f.code
+        return (bound_code, param_table("bound", self.boundDispatcher.functors), float(self.verletDist))
+
+
+class InteractionLoop(GlobalEngine):
+    """For every interaction: geometry (Ig2), physics once (Ip2), then the law (Law2).
+
+    ``InteractionLoop([Ig2...], [Ip2...], [Law2...])``. A combination that the listed
+    functors do not cover stops the run with an error naming the two types.
+    """
+
+    stage = "granum.kernels.interaction:interaction_stage"
+    _attrs = {
+        "geomDispatcher": Attr(None, "The IGeom functors (IGeomDispatcher)", _dispatcher),
+        "physDispatcher": Attr(None, "The IPhys functors (IPhysDispatcher)", _dispatcher),
+        "lawDispatcher": Attr(None, "The law functors (LawDispatcher)", _dispatcher),
+    }
+
+    def __init__(self, geoms=(), physs=(), laws=(), **kw):
+        super().__init__(**kw)
+        self.geomDispatcher = Dispatcher("geom", "InteractionLoop (IGeom functors)", geoms)
+        self.physDispatcher = Dispatcher("phys", "InteractionLoop (IPhys functors)", physs)
+        self.lawDispatcher = Dispatcher("law", "InteractionLoop (Law functors)", laws)
+
+    def functors(self) -> list:
+        return self.geomDispatcher.functors + self.physDispatcher.functors + self.lawDispatcher.functors
+
+    def tables(self, scene) -> dict:
+        """Dispatch tables from the listed functors (see :func:`interaction_stage`)."""
+        geoms = self.geomDispatcher.functors
+        geom_code = np.full((NKINDS, NKINDS), -1, np.int32)
+        geom_swap = np.zeros((NKINDS, NKINDS), np.uint8)
+        for f in geoms:
+            a, b = f.spec.types
+            geom_code[a, b], geom_swap[a, b] = f.code, 0
+            if geom_code[b, a] < 0:
+                geom_code[b, a], geom_swap[b, a] = f.code, 1
+        pair_ok = np.zeros((NKINDS, NKINDS), np.int8)
+        for spec in functors("geom"):
+            a, b = spec.types
+            pair_ok[a, b] = pair_ok[b, a] = 2
+        pair_ok[geom_code >= 0] = 1
+        geom_type = np.array([registry.GEOM_TYPES[s.produces].code for s in functors("geom")], np.int32)
+
+        mats = list(registry.MATERIALS)
+        phys_code = np.full((len(mats), len(mats)), -1, np.int32)
+        phys_swap = np.zeros((len(mats), len(mats)), np.uint8)
+        for i, m1 in enumerate(mats):
+            for j, m2 in enumerate(mats):
+                f, swapped = registry.best_match([p.spec for p in self.physDispatcher.functors],
+                                                 registry.material_ancestry(m1), registry.material_ancestry(m2))
+                if f is not None:
+                    phys_code[i, j], phys_swap[i, j] = code_of(f.yade_name), swapped
+        phys_type = np.array([registry.PHYS_TYPES[s.produces].code for s in functors("phys")], np.int32)
+
+        gtypes, ptypes = list(registry.GEOM_TYPES), list(registry.PHYS_TYPES)
+        law_code = np.full((len(gtypes), len(ptypes)), -1, np.int32)
+        for i, g in enumerate(gtypes):
+            for j, p in enumerate(ptypes):
+                chain_g, chain_p = registry.geom_ancestry(g), registry.phys_ancestry(p)
+                best, best_d = None, None
+                for law in self.lawDispatcher.functors:
+                    tg, tp = law.spec.types
+                    if tg in chain_g and tp in chain_p:
+                        d = chain_g.index(tg) + chain_p.index(tp)
+                        if best_d is None or d < best_d:
+                            best, best_d = law, d
+                if best is not None:
+                    law_code[i, j] = best.code
+        return dict(geom_code=geom_code, geom_swap=geom_swap, geom_type=geom_type, pair_ok=pair_ok,
+                    phys_code=phys_code, phys_swap=phys_swap, phys_type=phys_type, law_code=law_code)
+
+    def params(self, scene, engines) -> tuple:
+        t = self.tables(scene)
+        return (t["geom_code"], t["geom_swap"], param_table("geom", self.geomDispatcher.functors), t["geom_type"],
+                t["phys_code"], t["phys_swap"], param_table("phys", self.physDispatcher.functors), t["phys_type"],
+                t["law_code"], param_table("law", self.lawDispatcher.functors), t["pair_ok"])
+
+
+class NewtonIntegrator(GlobalEngine):
+    """Leapfrog integration of motion with gravity and YADE's non-viscous damping."""
+
+    stage = "granum.kernels.newton:newton_stage"
+    _attrs = {
+        "damping": Attr(0.2, "Non-viscous damping coefficient lambda_d [-]", to_float("damping")),
+        "gravity": Attr(Vector3(0, 0, 0), "Gravitational acceleration [m/s^2]", to_vec3),
+        "maxVelocitySq": Attr(0.0, "Accepted for compatibility", to_float("maxVelocitySq")),
+        "exactAsphericalRot": Attr(True, "Integrate aspherical bodies with Euler's equations", to_bool),
+        "warnNoForceReset": Attr(True, "Accepted for compatibility", to_bool),
+        "kinSplit": Attr(False, "Accepted for compatibility", to_bool),
+        "dampGravity": Attr(True, "Damping also acts on gravity (YADE's behaviour)", to_bool),
+        "mask": Attr(-1, "Accepted for compatibility", to_int("mask")),
+    }
+
+    def params(self, scene, engines) -> tuple:
+        return (np.array(self.gravity._a, dtype=np.float64), float(self.damping), bool(self.dampGravity))
+
+
+class GravityEngine(GlobalEngine):
+    """Apply m g to every body (deprecated in YADE in favour of NewtonIntegrator.gravity)."""
+
+    stage = "granum.kernels.forces:gravity_stage"
+    _attrs = {
+        "gravity": Attr(Vector3(0, 0, 0), "Gravitational acceleration [m/s^2]", to_vec3),
+        "mask": Attr(0, "Only bodies sharing a bit with this mask (0: all)", to_int("mask")),
+    }
+
+    def params(self, scene, engines) -> tuple:
+        return (np.array(self.gravity._a, dtype=np.float64), int(self.mask))

@@ -1,0 +1,36 @@
+"""PyRunner: a periodic engine that executes a Python command in the script's namespace."""
+
+from __future__ import annotations
+
+from granum.core.attrs import Attr, to_bool, to_str
+from granum.engines.base import PeriodicEngine
+
+
+class PyRunner(PeriodicEngine):
+    """Execute ``command`` (Python source) periodically, in the namespace of the script.
+
+    ``PyRunner(command='checkUnbalanced()', iterPeriod=100)``; the periods are those
+    of :class:`~granum.engines.base.PeriodicEngine`. ``command`` may be changed while
+    the simulation runs (also from within the command itself).
+    """
+
+    _attrs = {
+        "command": Attr("", "Python source to execute", to_str("command")),
+        "ignoreErrors": Attr(False, "Print errors raised by the command and go on", to_bool),
+        "updateGlobals": Attr(True, "Accepted for compatibility", to_bool),
+    }
+
+    def __init__(self, command: str = "", **kw):
+        super().__init__(command=command, **kw)
+
+    def run_python(self, omega) -> None:
+        if not self.command:
+            return
+        try:
+            exec(self.command, omega.namespace())
+        except Exception:
+            if not self.ignoreErrors:
+                raise
+            import traceback
+
+            traceback.print_exc()

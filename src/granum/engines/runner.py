@@ -1,0 +1,179 @@
+"""The execution model: run the engine list in compiled chunks between Python engines.
+
+Each step runs the engines in list order. Compiled engines are fused into one
+generated loop (:mod:`granum.kernels.steploop`) that runs many steps without
+returning to Python; the runner only comes back to Python for a step in which a
+Python engine (a ``PyRunner``) is due, when the run must stop, or every
+:data:`CHUNK_SECONDS` so that ``O.pause()`` and Ctrl-C stay responsive. Such a step
+is run segment by segment, calling the Python engines in between.
+
+Python engines are due by step count (predicted exactly), by simulated time
+(checked inside the compiled loop with the same comparison as in Python) or by
+wall-clock time (checked at chunk boundaries, hence with the chunk's latency).
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from granum.core.arrays import I_ITER, S_DT, S_TIME
+from granum.core.bodies import ShapeKind
+from granum.core.contacts import (
+    C_ERR_A,
+    C_ERR_B,
+    C_STATUS,
+    CONTACTS,
+    STATUS_NO_GEOM,
+    STATUS_NO_PHYS,
+    STATUS_NONFINITE,
+)
+from granum.engines.base import PeriodicEngine
+from granum.kernels import steploop
+
+#: Longest wall-clock time of one compiled chunk [s].
+CHUNK_SECONDS = 0.25
+
+
+class SimulationError(RuntimeError):
+    """A step could not be completed (missing functor, NaN, exploding velocity...).
+
+    The scene stays as the failed step left it, for inspection.
+    """
+
+
+class Plan:
+    """The engine list split into compiled segments and Python engines."""
+
+    def __init__(self, engines: list):
+        self.engines = list(engines)
+        self.live = [e for e in self.engines if not e.dead]
+        self.items: list = []       # ("segment", k) or ("python", engine), in step order
+        segments: list[list] = []
+        for e in self.live:
+            if e.stage is None:
+                self.items.append(("python", e))
+            else:
+                if not self.items or self.items[-1][0] != "segment":
+                    segments.append([])
+                    self.items.append(("segment", len(segments) - 1))
+                segments[-1].append(e)
+        self.compiled = [e for seg in segments for e in seg]
+        self.python = [e for e in self.live if e.stage is None]
+        self.module = steploop.load([[e.stage for e in seg] for seg in segments])
+        self.key = plan_key(engines)
+
+
+def plan_key(engines) -> tuple:
+    return tuple((id(e), e.dead) for e in engines)
+
+
+class Runner:
+    """Advances a scene by running its engine list."""
+
+    def __init__(self, scene, omega):
+        self.scene = scene
+        self.omega = omega
+        self._plan: Plan | None = None
+        self._step_seconds = 1e-6   # running estimate of the wall time of one step
+
+    def plan(self) -> Plan:
+        engines = self.scene.engines
+        if self._plan is None or self._plan.key != plan_key(engines):
+            self._plan = Plan(engines)
+        return self._plan
+
+    def params(self, plan: Plan) -> tuple:
+        return tuple(e.params(self.scene, plan.engines) for e in plan.compiled)
+
+    def check_scene(self) -> None:
+        """Errors that would otherwise surface as NaN inside the kernels."""
+        b = self.scene.bodies
+        n = b.count
+        free = b.alive[:n] & (b.blocked[:n] & 0b111 != 0b111) & (b.clump_id[:n] < 0)
+        bad = np.nonzero(free & ~(b.mass[:n] > 0))[0]
+        if bad.size:
+            i = int(bad[0])
+            raise SimulationError(f"body {i} has mass {b.mass[i]} but free translational DOFs; "
+                                  f"give it a positive mass (density) or block its DOFs (fixed=True)")
+
+    def steps_allowed(self, plan: Plan, limit: int) -> int:
+        """How many whole steps may run compiled before a Python engine could be due."""
+        scene = self.scene
+        m = limit
+        now = time.time()
+        for e in plan.python:
+            if not isinstance(e, PeriodicEngine):
+                return 0
+            nxt = e.next_due_iter(scene)
+            if nxt is not None:
+                m = min(m, nxt - scene.iter)
+            if e.realPeriod > 0 and not 0 <= e.nDo <= e.nDone:
+                m = min(m, int((e.realLast + e.realPeriod - now) / self._step_seconds))
+        m = min(m, max(1, int(CHUNK_SECONDS / self._step_seconds)))
+        return max(m, 0)
+
+    def advance(self, limit: int, stop_time: float = np.inf) -> int:
+        """Run at most ``limit`` steps (at least one unless ``stop_time`` is reached); return the count."""
+        scene = self.scene
+        plan = self.plan()
+        self.check_scene()
+        m = self.steps_allowed(plan, limit)
+        if m > 0:
+            virt = [e for e in plan.python if e.virtPeriod > 0 and not 0 <= e.nDo <= e.nDone]
+            virt_last = np.array([e.virtLast for e in virt])
+            virt_period = np.array([e.virtPeriod for e in virt])
+            S = scene.arrays()
+            C = CONTACTS.to_record(scene.contacts)
+            t0 = time.perf_counter()
+            done, why = plan.module.run_steps(m, S, C, self.params(plan), float(stop_time), virt_last, virt_period)
+            scene.contacts = CONTACTS.from_record(C)
+            if done:
+                self._step_seconds = max((time.perf_counter() - t0) / done, 1e-9)
+            if why == steploop.WHY_ERROR:
+                self.raise_status()
+            if done or why == steploop.WHY_TIME:
+                return done
+        self.slow_step(plan)
+        return 1
+
+    def slow_step(self, plan: Plan) -> None:
+        """One step, segment by segment, with the Python engines that are due."""
+        scene = self.scene
+        for kind, item in plan.items:
+            if kind == "segment":
+                run = getattr(plan.module, f"run_segment_{item}")
+                S = scene.arrays()
+                C = CONTACTS.to_record(scene.contacts)
+                run(S, C, self.params(plan))
+                scene.contacts = CONTACTS.from_record(C)
+                if scene.contacts.ctr[C_STATUS]:
+                    self.raise_status()
+            elif not item.dead and item.due(scene):
+                item.run_python(self.omega)
+        scene.scal[S_TIME] += scene.scal[S_DT]
+        scene.iscal[I_ITER] += 1
+
+    def raise_status(self):
+        scene = self.scene
+        ctr = scene.contacts.ctr
+        status, a, b = int(ctr[C_STATUS]), int(ctr[C_ERR_A]), int(ctr[C_ERR_B])
+        ctr[C_STATUS] = 0
+        if status == STATUS_NONFINITE:
+            bd = scene.bodies
+            raise SimulationError(
+                f"step {scene.iter}: body {a} has a non-finite or exploding state (pos={tuple(bd.pos[a])}, "
+                f"vel={tuple(bd.vel[a])}); is O.dt too large (compare PWaveTimeStep())? "
+                f"The scene is kept as this step left it.")
+        if status == STATUS_NO_GEOM:
+            sa, sb = (ShapeKind(int(scene.bodies.shape_kind[i])).name.capitalize() for i in (a, b))
+            raise SimulationError(f"step {scene.iter}: bodies {a} ({sa}) and {b} ({sb}) may collide but no "
+                                  f"IGeom functor for {sa}+{sb} is listed in InteractionLoop; "
+                                  f"add the matching Ig2_ functor")
+        mats = [type(scene.materials[scene.bodies.material[i]]).__name__ for i in (a, b)]
+        if status == STATUS_NO_PHYS:
+            raise SimulationError(f"step {scene.iter}: no IPhys functor in InteractionLoop for the material pair "
+                                  f"{mats[0]}+{mats[1]} (bodies {a} and {b}); add the matching Ip2_ functor")
+        raise SimulationError(f"step {scene.iter}: no Law2 functor in InteractionLoop for the contact of bodies "
+                              f"{a} and {b} (materials {mats[0]}+{mats[1]}); add the matching Law2_ functor")

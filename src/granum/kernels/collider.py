@@ -1,0 +1,345 @@
+"""Broad phase: axis-aligned bounds, Verlet trigger and the potential-pair list.
+
+YADE's ``InsertionSortCollider`` keeps the potential interactions of all bodies
+whose axis-aligned bounds overlap; bounds are enlarged by a Verlet distance so that
+the collider need only run again when some body has moved farther than that. granum
+produces the same set of pairs with a uniform grid instead of sorted lists:
+
+1. Bounds are computed by the registered bound functions and enlarged by the Verlet
+   distance; the position and orientation at that moment are remembered.
+2. Bodies whose bound fits in a grid cell ("small") are binned; each looks for
+   partners with a larger id in the 27 neighbouring cells. Bodies with larger or
+   infinite bounds (facets of a container, walls) are tested against all others.
+3. Each body's partner list is sorted, so the pair list comes out ordered by
+   (id1, id2), deterministically and without a global sort.
+
+The collider runs again when a body has moved (or, for non-spheres, turned) by
+more than the Verlet distance since its bound was computed, when the scene changed
+(bodies added or erased, :data:`C_COLLIDE` set), or every step if the Verlet
+distance is zero.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from granum._jit import PARALLEL_THRESHOLD, jit, kernel, prange
+from granum.core.arrays import I_NBODIES, S_VERLET
+from granum.core.bodies import ShapeKind
+from granum.core.contacts import (
+    C_COLLIDE,
+    C_COLLIDER_RUNS,
+    C_CONTACTS,
+    C_PAIRS,
+    FLAG_ALIVE,
+    I_FLAGS,
+    I_ID1,
+    I_ID2,
+    I_PAIR,
+)
+from granum.kernels.dispatch import bound_call
+from granum.physics.vec import load3, load4, norm, quat_angle, quat_mul, sub
+
+BLOCK = 512  # bodies per block of block-wise loops (fixed: results never depend on threads)
+
+
+@jit
+def body_reach(i, S):
+    """Largest distance from the body position to a point of its shape (0 for spheres and walls) [m]."""
+    kind = S.shape_kind[i]
+    row = S.shape_row[i]
+    if kind == ShapeKind.FACET:
+        r = 0.0
+        for k in range(3):
+            r = max(r, math.sqrt(S.facet_vertices[row, k, 0] ** 2 + S.facet_vertices[row, k, 1] ** 2
+                                 + S.facet_vertices[row, k, 2] ** 2))
+        return r
+    if kind == ShapeKind.BOX:
+        e = S.box_extents[row]
+        return math.sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2])
+    return 0.0
+
+
+def _moved_blocks(S, nb, flags):
+    for b in prange(flags.shape[0]):
+        moved = 0
+        verlet = S.scal[S_VERLET]
+        for i in range(b * BLOCK, min(nb, (b + 1) * BLOCK)):
+            if not S.alive[i] or S.bound_min[i, 0] > S.bound_max[i, 0]:
+                continue
+            d = norm(sub(load3(S.pos, i), load3(S.bound_pos, i)))
+            if S.shape_kind[i] != ShapeKind.SPHERE:
+                q = load4(S.ori, i)
+                q0 = load4(S.bound_ori, i)
+                d += quat_angle(quat_mul(q, (q0[0], -q0[1], -q0[2], -q0[3]))) * body_reach(i, S)
+            if d > verlet or (verlet == 0.0 and d > 0.0) or not d == d:
+                moved = 1
+                break
+        flags[b] = moved
+
+
+moved_blocks, moved_blocks_par = kernel(_moved_blocks)
+
+
+@jit
+def any_body_moved(S, nb):
+    """Whether some body left its Verlet-enlarged bound since the collider last ran."""
+    flags = np.zeros((nb + BLOCK - 1) // BLOCK, np.uint8)
+    if nb < PARALLEL_THRESHOLD:
+        moved_blocks(S, nb, flags)
+    else:
+        moved_blocks_par(S, nb, flags)
+    return flags.any()
+
+
+def _compute_bounds(S, nb, bound_code, bound_prm, verlet):
+    for i in prange(nb):
+        out = np.empty(6)
+        code = bound_code[S.shape_kind[i]] if S.alive[i] else -1
+        if code < 0:
+            for k in range(3):
+                S.bound_min[i, k] = math.inf   # no bound: never collides
+                S.bound_max[i, k] = -math.inf
+            continue
+        bound_call(code, i, S, bound_prm, out)
+        for k in range(3):
+            S.bound_min[i, k] = out[k] - verlet
+            S.bound_max[i, k] = out[3 + k] + verlet
+            S.bound_pos[i, k] = S.pos[i, k]
+        for k in range(4):
+            S.bound_ori[i, k] = S.ori[i, k]
+
+
+compute_bounds, compute_bounds_par = kernel(_compute_bounds)
+
+
+@jit
+def may_collide(S, i, j):
+    """YADE's collision filter: masks share a bit, not two members of one clump.
+
+    Pairs whose shapes have no geometry functor are kept, as in YADE: they are
+    potential interactions that never become real.
+    """
+    if (S.mask[i] & S.mask[j]) == 0:
+        return False
+    return not (S.clump_id[i] >= 0 and S.clump_id[i] == S.clump_id[j])
+
+
+@jit
+def overlap(S, i, j):
+    for k in range(3):
+        if S.bound_min[i, k] > S.bound_max[j, k] or S.bound_min[j, k] > S.bound_max[i, k]:
+            return False
+    return True
+
+
+@jit
+def cell_range(key, keys_sorted, dense_start):
+    """Range [a, b) of ``keys_sorted`` equal to ``key`` (dense table or binary search)."""
+    if dense_start.shape[0] > 0:
+        if key < 0 or key >= dense_start.shape[0] - 1:
+            return 0, 0
+        return dense_start[key], dense_start[key + 1]
+    a = np.searchsorted(keys_sorted, key, side="left")
+    b = np.searchsorted(keys_sorted, key, side="right")
+    return a, b
+
+
+def _partners(S, nb, small, cell, dims, order, keys_sorted, dense_start, large, count, start, out):
+    """Pass 1 (``out`` empty): count partners j > i of each body. Pass 2: write them."""
+    fill = out.shape[0] > 0
+    for i in prange(nb):
+        if not (S.bound_min[i, 0] <= S.bound_max[i, 0]):
+            continue
+        n = 0
+        base = start[i] if fill else 0
+        if small[i]:
+            for dx in range(-1, 2):
+                cx = cell[i, 0] + dx
+                if cx < 0 or cx >= dims[0]:
+                    continue
+                for dy in range(-1, 2):
+                    cy = cell[i, 1] + dy
+                    if cy < 0 or cy >= dims[1]:
+                        continue
+                    for dz in range(-1, 2):
+                        cz = cell[i, 2] + dz
+                        if cz < 0 or cz >= dims[2]:
+                            continue
+                        a, b = cell_range((cx * dims[1] + cy) * dims[2] + cz, keys_sorted, dense_start)
+                        for t in range(a, b):
+                            j = order[t]
+                            if j > i and overlap(S, i, j) and may_collide(S, i, j):
+                                if fill:
+                                    out[base + n, 0] = i
+                                    out[base + n, 1] = j
+                                n += 1
+            for j in large:
+                if j > i and overlap(S, i, j) and may_collide(S, i, j):
+                    if fill:
+                        out[base + n, 0] = i
+                        out[base + n, 1] = j
+                    n += 1
+            if fill:  # insertion sort of the (short) partner list by id
+                for u in range(base + 1, base + n):
+                    v = out[u, 1]
+                    w = u - 1
+                    while w >= base and out[w, 1] > v:
+                        out[w + 1, 1] = out[w, 1]
+                        w -= 1
+                    out[w + 1, 1] = v
+        else:
+            for j in range(i + 1, nb):  # in id order: already sorted
+                if S.bound_min[j, 0] <= S.bound_max[j, 0] and overlap(S, i, j) and may_collide(S, i, j):
+                    if fill:
+                        out[base + n, 0] = i
+                        out[base + n, 1] = j
+                    n += 1
+        if not fill:
+            count[i] = n
+
+
+partners, partners_par = kernel(_partners)
+
+
+@jit
+def find_pairs(S, nb):
+    """All pairs (i < j) with overlapping bounds that may collide, sorted, shape (P, 2)."""
+    width = np.zeros(nb)
+    bounded = np.zeros(nb, np.bool_)
+    for i in range(nb):
+        if S.bound_min[i, 0] <= S.bound_max[i, 0]:
+            bounded[i] = True
+            w = 0.0
+            for k in range(3):
+                w = max(w, S.bound_max[i, k] - S.bound_min[i, k])
+            width[i] = w
+    finite = width[bounded & np.isfinite(width)]
+    h = 0.0
+    if finite.shape[0] > 0:
+        ref = np.median(finite)
+        for w in finite:
+            if w <= 4.0 * ref:
+                h = max(h, w)
+    small = bounded & np.isfinite(width) & (width <= h) & (h > 0.0)
+    large = np.nonzero(bounded & ~small)[0].astype(np.int32)
+    # bin the small bodies by the cell of their lower corner
+    cell = np.zeros((nb, 3), np.int64)
+    dims = np.ones(3, np.int64)
+    idx = np.nonzero(small)[0]
+    if idx.shape[0] > 0:
+        lo = np.empty(3)
+        hi = np.empty(3)
+        for k in range(3):
+            lo[k] = S.bound_min[idx[0], k]
+            hi[k] = lo[k]
+        for i in idx:
+            for k in range(3):
+                lo[k] = min(lo[k], S.bound_min[i, k])
+                hi[k] = max(hi[k], S.bound_min[i, k])
+        for k in range(3):
+            dims[k] = int((hi[k] - lo[k]) / h) + 1
+        for i in idx:
+            for k in range(3):
+                cell[i, k] = min(int((S.bound_min[i, k] - lo[k]) / h), dims[k] - 1)
+    keys = np.empty(idx.shape[0], np.int64)
+    for t in range(idx.shape[0]):
+        i = idx[t]
+        keys[t] = (cell[i, 0] * dims[1] + cell[i, 1]) * dims[2] + cell[i, 2]
+    perm = np.argsort(keys, kind="mergesort")
+    order = idx[perm].astype(np.int32)
+    keys_sorted = keys[perm]
+    ncells = dims[0] * dims[1] * dims[2]
+    if ncells <= 4 * idx.shape[0] + 1024:
+        dense_start = np.zeros(ncells + 1, np.int64)
+        for key in keys_sorted:
+            dense_start[key + 1] += 1
+        for k in range(ncells):
+            dense_start[k + 1] += dense_start[k]
+    else:
+        dense_start = np.zeros(0, np.int64)
+    count = np.zeros(nb, np.int64)
+    start = np.zeros(nb + 1, np.int64)
+    none = np.zeros((0, 2), np.int32)
+    par = nb >= PARALLEL_THRESHOLD
+    if par:
+        partners_par(S, nb, small, cell, dims, order, keys_sorted, dense_start, large, count, start, none)
+    else:
+        partners(S, nb, small, cell, dims, order, keys_sorted, dense_start, large, count, start, none)
+    for i in range(nb):
+        start[i + 1] = start[i] + count[i]
+    out = np.empty((start[nb], 2), np.int32)
+    if par:
+        partners_par(S, nb, small, cell, dims, order, keys_sorted, dense_start, large, count, start, out)
+    else:
+        partners(S, nb, small, cell, dims, order, keys_sorted, dense_start, large, count, start, out)
+    return out, start
+
+
+@jit
+def find_pair(pairs, start, a, b):
+    """Index of pair (a, b), a < b, in a sorted pair list with per-body offsets ``start``; -1 if absent."""
+    lo = start[a]
+    hi = start[a + 1]
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if pairs[mid, 1] < b:
+            lo = mid + 1
+        else:
+            hi = mid
+    if lo < start[a + 1] and pairs[lo, 1] == b:
+        return lo
+    return -1
+
+
+def _relink(C, pairs, start, pair_con):
+    for c in prange(C.ctr[C_CONTACTS]):
+        if C.con_i[c, I_FLAGS] & FLAG_ALIVE:
+            a = min(C.con_i[c, I_ID1], C.con_i[c, I_ID2])
+            b = max(C.con_i[c, I_ID1], C.con_i[c, I_ID2])
+            p = find_pair(pairs, start, a, b)
+            C.con_i[c, I_PAIR] = p
+            if p >= 0:
+                pair_con[p] = c
+
+
+relink, relink_par = kernel(_relink)
+
+
+@jit
+def collider_stage(S, C, P):
+    """Engine stage of InsertionSortCollider; P = (bound_code, bound_prm, verlet_dist)."""
+    bound_code, bound_prm, verlet_dist = P
+    nb = S.iscal[I_NBODIES]
+    if C.ctr[C_COLLIDE] == 0 and not any_body_moved(S, nb):
+        return
+    verlet = verlet_dist
+    if verlet < 0.0:
+        rmin = math.inf
+        for i in range(nb):
+            if S.alive[i] and S.shape_kind[i] == ShapeKind.SPHERE:
+                rmin = min(rmin, S.sphere_radius[S.shape_row[i]])
+        verlet = -verlet * rmin if rmin < math.inf else 0.0
+    S.scal[S_VERLET] = verlet
+    if nb < PARALLEL_THRESHOLD:
+        compute_bounds(S, nb, bound_code, bound_prm, verlet)
+    else:
+        compute_bounds_par(S, nb, bound_code, bound_prm, verlet)
+    pairs, start = find_pairs(S, nb)
+    n = pairs.shape[0]
+    cap = max(n, 16)
+    pair_ids = np.empty((cap, 2), np.int32)
+    pair_ids[:n] = pairs
+    pair_con = np.full(cap, -1, np.int32)
+    if C.ctr[C_CONTACTS] < PARALLEL_THRESHOLD:
+        relink(C, pairs, start, pair_con)
+    else:
+        relink_par(C, pairs, start, pair_con)
+    C.ctr[C_PAIRS] = n
+    C.ctr[C_COLLIDE] = 0
+    C.ctr[C_COLLIDER_RUNS] += 1
+    C.pair_ids = pair_ids
+    C.pair_con = pair_con
+    C.pair_hit = np.zeros(cap, np.uint8)

@@ -1,0 +1,86 @@
+"""Stages that set forces or impose motion: ForceResetter, GravityEngine, ForceEngine,
+TranslationEngine and RotationEngine.
+
+Each writes only the rows of its own bodies, in parallel over bodies.
+"""
+
+from __future__ import annotations
+
+from granum._jit import PARALLEL_THRESHOLD, jit, kernel, prange
+from granum.core.arrays import E_GRAV_WORK, I_NBODIES, I_TRACK_ENERGY, S_DT
+from granum.physics.vec import cross, load3, sub
+
+
+def _reset(S, nb):
+    for i in prange(nb):
+        for k in range(3):
+            S.force[i, k] = S.perm_force[i, k]
+            S.torque[i, k] = S.perm_torque[i, k]
+
+
+reset, reset_par = kernel(_reset)
+
+
+@jit
+def reset_stage(S, C, P):
+    """ForceResetter: forces and torques back to their permanent values."""
+    nb = S.iscal[I_NBODIES]
+    if nb < PARALLEL_THRESHOLD:
+        reset(S, nb)
+    else:
+        reset_par(S, nb)
+
+
+@jit
+def gravity_stage(S, C, P):
+    """GravityEngine: F += m g on bodies whose mask matches; P = (gravity (3,), mask)."""
+    gravity, mask = P
+    nb = S.iscal[I_NBODIES]
+    dt = S.scal[S_DT]
+    work = 0.0
+    for i in range(nb):
+        if S.alive[i] and (mask == 0 or S.mask[i] & mask) and S.mass[i] > 0.0:
+            for k in range(3):
+                S.force[i, k] += S.mass[i] * gravity[k]
+                work -= S.mass[i] * gravity[k] * S.vel[i, k] * dt
+    if S.iscal[I_TRACK_ENERGY]:
+        S.energy[E_GRAV_WORK] += work
+        S.energy_set[E_GRAV_WORK] = 1
+
+
+@jit
+def force_stage(S, C, P):
+    """ForceEngine: F += force on the listed bodies; P = (ids, force (3,))."""
+    ids, force = P
+    for i in ids:
+        for k in range(3):
+            S.force[i, k] += force[k]
+
+
+@jit
+def translation_stage(S, C, P):
+    """TranslationEngine: v = velocity * axis on the listed bodies; P = (ids, velocity (3,))."""
+    ids, velocity = P
+    for i in ids:
+        for k in range(3):
+            S.vel[i, k] = velocity[k]
+
+
+@jit
+def rotation_stage(S, C, P):
+    """RotationEngine: spin about an axis, optionally about a point.
+
+    P = (ids, angular velocity vector (3,), rotate_around_zero, zero point (3,)):
+    omega = angularVelocity * axis; with ``rotateAroundZero`` also
+    v = omega x (x - zeroPoint), so the bodies orbit the axis through zeroPoint.
+    """
+    ids, omega, around, zero = P
+    w = (omega[0], omega[1], omega[2])
+    z = (zero[0], zero[1], zero[2])
+    for i in ids:
+        for k in range(3):
+            S.ang_vel[i, k] = w[k]
+        if around:
+            v = cross(w, sub(load3(S.pos, i), z))
+            for k in range(3):
+                S.vel[i, k] = v[k]

@@ -1,0 +1,378 @@
+"""InteractionLoop stage: contact detection, geometry, physics, laws and force gather.
+
+Each step:
+
+1. Every potential pair without a contact asks its geometry function whether the
+   two bodies touch (parallel, read-only).
+2. Touching pairs become contacts, appended to the pool in pair order (serial, so
+   the pool order is deterministic). The geometry, physics and law functors are
+   resolved here from the dispatch tables; a missing combination stops the run
+   with a status naming the two bodies.
+3. Every contact updates its geometry, gets its physics constants if new, and runs
+   its law (parallel over contacts, each writing only its own row).
+4. Contacts ended by their law are unlinked from their pair; the per-body contact
+   index (CSR) is rebuilt when the contact set changed.
+5. Forces and torques are gathered per body through the CSR index, in increasing
+   contact order: the sums are the same whatever the number of threads.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from granum._jit import PARALLEL_THRESHOLD, jit, kernel, prange
+from granum.core.arrays import E_ELAST_POT, E_PLAST_DISSIP, I_ITER, I_NBODIES, I_TRACK_ENERGY
+from granum.core.contacts import (
+    C_CONTACTS,
+    C_CSR_DIRTY,
+    C_DEAD,
+    C_ERR_A,
+    C_ERR_B,
+    C_PAIRS,
+    C_STATUS,
+    F_E_DISSIP,
+    F_E_ELAST,
+    F_FN,
+    F_FS,
+    F_POINT,
+    FLAG_ALIVE,
+    FLAG_NEW,
+    I_BORN,
+    I_CELL,
+    I_FLAGS,
+    I_GEOM,
+    I_ID1,
+    I_ID2,
+    I_LAW,
+    I_PAIR,
+    I_PHYS,
+    NF,
+    NI,
+    STATUS_NO_GEOM,
+    STATUS_NO_LAW,
+    STATUS_NO_PHYS,
+)
+from granum.kernels.collider import BLOCK
+from granum.kernels.dispatch import geom_call, law_call, phys_call
+from granum.physics.scgeom import contact_shift
+from granum.physics.vec import add, cross, load3, sub
+
+FLAG_PHYS_SWAP = 8   # the physics functor is declared for (material 2, material 1)
+HIT_TOUCH = 1        # pair_hit: the pair touches and becomes a contact
+HIT_NO_FUNCTOR = 2   # pair_hit: a geometry functor exists for the shapes but is not listed
+
+
+def _detect(S, C, geom_code, geom_swap, geom_prm, pair_ok):
+    zero = (0.0, 0.0, 0.0)
+    for p in prange(C.ctr[C_PAIRS]):
+        hit = 0
+        if C.pair_con[p] < 0:
+            a = C.pair_ids[p, 0]
+            b = C.pair_ids[p, 1]
+            ka = S.shape_kind[a]
+            kb = S.shape_kind[b]
+            code = geom_code[ka, kb]
+            if code < 0:
+                if pair_ok[ka, kb] == 2:
+                    hit = HIT_NO_FUNCTOR
+            elif geom_swap[ka, kb]:
+                hit = HIT_TOUCH if geom_call(code, -1, b, a, zero, S, C, geom_prm) else 0
+            else:
+                hit = HIT_TOUCH if geom_call(code, -1, a, b, zero, S, C, geom_prm) else 0
+        C.pair_hit[p] = hit
+
+
+detect, detect_par = kernel(_detect)
+
+
+@jit
+def grow_contacts(C, need):
+    """Make room for at least ``need`` contacts (rows copied, capacity doubled)."""
+    cap = max(need, 2 * C.con_i.shape[0], 64)
+    con_i = np.zeros((cap, NI), np.int32)
+    con_f = np.zeros((cap, NF), np.float64)
+    n = C.ctr[C_CONTACTS]
+    con_i[:n] = C.con_i[:n]
+    con_f[:n] = C.con_f[:n]
+    C.con_i = con_i
+    C.con_f = con_f
+    C.csr_con = np.zeros(2 * cap, np.int32)
+
+
+@jit
+def fail(C, status, a, b):
+    C.ctr[C_STATUS] = status
+    C.ctr[C_ERR_A] = a
+    C.ctr[C_ERR_B] = b
+
+
+@jit
+def new_contact(S, C, a, b, p, geom_code, geom_swap, geom_type, phys_code, phys_swap, phys_type, law_code):
+    """Append a contact between bodies a and b (pair p or -1) with its functors resolved.
+
+    Returns the new row, or -1 with an error status when a functor is missing.
+    """
+    ka = S.shape_kind[a]
+    kb = S.shape_kind[b]
+    g = geom_code[ka, kb]
+    if g < 0:
+        fail(C, STATUS_NO_GEOM, a, b)
+        return -1
+    id1, id2 = (b, a) if geom_swap[ka, kb] else (a, b)
+    m1 = S.mat_kind[S.material[id1]]
+    m2 = S.mat_kind[S.material[id2]]
+    ph = phys_code[m1, m2]
+    if ph < 0:
+        fail(C, STATUS_NO_PHYS, id1, id2)
+        return -1
+    law = law_code[geom_type[g], phys_type[ph]]
+    if law < 0:
+        fail(C, STATUS_NO_LAW, id1, id2)
+        return -1
+    c = C.ctr[C_CONTACTS]
+    if c >= C.con_i.shape[0]:
+        grow_contacts(C, c + 1)
+    C.con_f[c, :] = 0.0
+    C.con_i[c, I_ID1] = id1
+    C.con_i[c, I_ID2] = id2
+    C.con_i[c, I_PAIR] = p
+    C.con_i[c, I_FLAGS] = FLAG_ALIVE | FLAG_NEW | (FLAG_PHYS_SWAP if phys_swap[m1, m2] else 0)
+    C.con_i[c, I_GEOM] = g
+    C.con_i[c, I_PHYS] = ph
+    C.con_i[c, I_LAW] = law
+    for k in range(3):
+        C.con_i[c, I_CELL + k] = 0
+    C.con_i[c, I_BORN] = S.iscal[I_ITER]
+    if p >= 0:
+        C.pair_con[p] = c
+    C.ctr[C_CONTACTS] = c + 1
+    C.ctr[C_CSR_DIRTY] = 1
+    return c
+
+
+@jit
+def create_contacts(S, C, geom_code, geom_swap, geom_type, phys_code, phys_swap, phys_type, law_code):
+    """Turn the touching pairs into contacts, in pair order (the storage may grow)."""
+    for p in range(C.ctr[C_PAIRS]):
+        hit = C.pair_hit[p]
+        if hit == 0:
+            continue
+        if hit == HIT_NO_FUNCTOR:
+            fail(C, STATUS_NO_GEOM, C.pair_ids[p, 0], C.pair_ids[p, 1])
+            return
+        c = new_contact(S, C, C.pair_ids[p, 0], C.pair_ids[p, 1], p, geom_code, geom_swap, geom_type,
+                           phys_code, phys_swap, phys_type, law_code)
+        if c < 0:
+            return
+
+
+@jit
+def create_contact_now(S, C, a, b, P):
+    """Make bodies a and b interact now, whatever their distance (``utils.createInteraction``).
+
+    The geometry and physics are computed immediately; the law acts from the next step.
+    """
+    geom_code, geom_swap, geom_prm, geom_type, phys_code, phys_swap, phys_prm, phys_type, law_code, law_prm, pair_ok = P
+    lo = min(a, b)
+    hi = max(a, b)
+    p = -1
+    for q in range(C.ctr[C_PAIRS]):
+        if C.pair_ids[q, 0] == lo and C.pair_ids[q, 1] == hi:
+            p = q
+    if p >= 0 and C.pair_con[p] >= 0:
+        return
+    c = new_contact(S, C, lo, hi, p, geom_code, geom_swap, geom_type, phys_code, phys_swap, phys_type, law_code)
+    if c < 0:
+        return
+    id1 = C.con_i[c, I_ID1]
+    id2 = C.con_i[c, I_ID2]
+    geom_call(C.con_i[c, I_GEOM], c, id1, id2, (0.0, 0.0, 0.0), S, C, geom_prm)
+    if C.con_i[c, I_FLAGS] & FLAG_PHYS_SWAP:
+        phys_call(C.con_i[c, I_PHYS], c, id2, id1, S, C, phys_prm)
+    else:
+        phys_call(C.con_i[c, I_PHYS], c, id1, id2, S, C, phys_prm)
+    C.con_i[c, I_FLAGS] &= ~FLAG_NEW
+
+
+def _update(S, C, geom_prm, phys_prm, law_prm, died):
+    for c in prange(C.ctr[C_CONTACTS]):
+        flags = C.con_i[c, I_FLAGS]
+        if not flags & FLAG_ALIVE:
+            continue
+        id1 = C.con_i[c, I_ID1]
+        id2 = C.con_i[c, I_ID2]
+        shift, _ = contact_shift(c, S, C)
+        geom_call(C.con_i[c, I_GEOM], c, id1, id2, shift, S, C, geom_prm)
+        flags = C.con_i[c, I_FLAGS]
+        if flags & FLAG_NEW:
+            if flags & FLAG_PHYS_SWAP:
+                phys_call(C.con_i[c, I_PHYS], c, id2, id1, S, C, phys_prm)
+            else:
+                phys_call(C.con_i[c, I_PHYS], c, id1, id2, S, C, phys_prm)
+            flags &= ~FLAG_NEW
+        if not law_call(C.con_i[c, I_LAW], c, id1, id2, S, C, law_prm):
+            flags &= ~FLAG_ALIVE
+            died[c // BLOCK] = 1
+        C.con_i[c, I_FLAGS] = flags
+
+
+update, update_par = kernel(_update)
+
+
+@jit
+def unlink_dead(C, died):
+    """Detach contacts ended in this step from their pairs (serial, block by block)."""
+    n = C.ctr[C_CONTACTS]
+    for b in range(died.shape[0]):
+        if died[b] == 0:
+            continue
+        for c in range(b * BLOCK, min(n, (b + 1) * BLOCK)):
+            if C.con_i[c, I_FLAGS] & FLAG_ALIVE or C.con_i[c, I_ID1] < 0:
+                continue
+            p = C.con_i[c, I_PAIR]
+            if p >= 0:
+                C.pair_con[p] = -1
+            C.con_i[c, I_ID1] = -1   # marks the row as already unlinked
+            C.con_i[c, I_PAIR] = -1
+            C.ctr[C_DEAD] += 1
+            C.ctr[C_CSR_DIRTY] = 1
+
+
+@jit
+def compact(C):
+    """Remove dead rows, keeping the order of the live contacts."""
+    n = C.ctr[C_CONTACTS]
+    k = 0
+    for c in range(n):
+        if C.con_i[c, I_FLAGS] & FLAG_ALIVE:
+            if k != c:
+                C.con_i[k, :] = C.con_i[c, :]
+                C.con_f[k, :] = C.con_f[c, :]
+                p = C.con_i[k, I_PAIR]
+                if p >= 0:
+                    C.pair_con[p] = k
+            k += 1
+    C.ctr[C_CONTACTS] = k
+    C.ctr[C_DEAD] = 0
+
+
+@jit
+def build_csr(C, nb):
+    """Per-body index of live contacts, each body's list in increasing contact order."""
+    start = C.csr_start
+    start[:] = 0
+    n = C.ctr[C_CONTACTS]
+    for c in range(n):
+        if C.con_i[c, I_FLAGS] & FLAG_ALIVE:
+            start[C.con_i[c, I_ID1] + 1] += 1
+            start[C.con_i[c, I_ID2] + 1] += 1
+    for i in range(nb):
+        start[i + 1] += start[i]
+    fill = start[:nb].copy()
+    for c in range(n):
+        if C.con_i[c, I_FLAGS] & FLAG_ALIVE:
+            for k in range(2):
+                i = C.con_i[c, I_ID1 + k]
+                C.csr_con[fill[i]] = c
+                fill[i] += 1
+    C.ctr[C_CSR_DIRTY] = 0
+
+
+def _gather(S, C, nb):
+    for i in prange(nb):
+        a = C.csr_start[i]
+        b = C.csr_start[i + 1]
+        if a == b:
+            continue
+        fx = S.force[i, 0]
+        fy = S.force[i, 1]
+        fz = S.force[i, 2]
+        tx = S.torque[i, 0]
+        ty = S.torque[i, 1]
+        tz = S.torque[i, 2]
+        xi = load3(S.pos, i)
+        for k in range(a, b):
+            c = C.csr_con[k]
+            f = add(load3_row(C.con_f, c, F_FN), load3_row(C.con_f, c, F_FS))  # force on body 2
+            if C.con_i[c, I_ID2] == i:
+                shift, _ = contact_shift(c, S, C)
+                xi_c = add(xi, shift)
+            else:
+                f = (-f[0], -f[1], -f[2])
+                xi_c = xi
+            t = cross(sub(load3_row(C.con_f, c, F_POINT), xi_c), f)
+            fx += f[0]
+            fy += f[1]
+            fz += f[2]
+            tx += t[0]
+            ty += t[1]
+            tz += t[2]
+        S.force[i, 0] = fx
+        S.force[i, 1] = fy
+        S.force[i, 2] = fz
+        S.torque[i, 0] = tx
+        S.torque[i, 1] = ty
+        S.torque[i, 2] = tz
+
+
+gather, gather_par = kernel(_gather)
+
+
+@jit
+def load3_row(a, c, col):
+    return (a[c, col], a[c, col + 1], a[c, col + 2])
+
+
+@jit
+def contact_energy(S, C):
+    """Add the contacts' elastic energy (instantaneous) and friction dissipation (cumulative)."""
+    elast = 0.0
+    dissip = 0.0
+    live = False
+    for c in range(C.ctr[C_CONTACTS]):
+        if C.con_i[c, I_FLAGS] & FLAG_ALIVE:
+            live = True
+            elast += C.con_f[c, F_E_ELAST]
+            dissip += C.con_f[c, F_E_DISSIP]
+    # like YADE, a term appears in O.energy once something contributed to it
+    if live or S.energy_set[E_ELAST_POT]:
+        S.energy[E_ELAST_POT] = elast
+        S.energy_set[E_ELAST_POT] = 1
+    if dissip != 0.0:
+        S.energy[E_PLAST_DISSIP] += dissip
+        S.energy_set[E_PLAST_DISSIP] = 1
+
+
+@jit
+def interaction_stage(S, C, P):
+    """Engine stage of InteractionLoop.
+
+    P = (geom_code, geom_swap, geom_prm, geom_type, phys_code, phys_swap, phys_prm,
+    phys_type, law_code, law_prm, pair_ok); see :mod:`granum.engines.interaction`.
+    """
+    geom_code, geom_swap, geom_prm, geom_type, phys_code, phys_swap, phys_prm, phys_type, law_code, law_prm, pair_ok = P
+    nb = S.iscal[I_NBODIES]
+    if C.ctr[C_PAIRS] < PARALLEL_THRESHOLD:
+        detect(S, C, geom_code, geom_swap, geom_prm, pair_ok)
+    else:
+        detect_par(S, C, geom_code, geom_swap, geom_prm, pair_ok)
+    create_contacts(S, C, geom_code, geom_swap, geom_type, phys_code, phys_swap, phys_type, law_code)
+    if C.ctr[C_STATUS] != 0:
+        return
+    n = C.ctr[C_CONTACTS]
+    died = np.zeros((n + BLOCK - 1) // BLOCK, np.uint8)
+    if n < PARALLEL_THRESHOLD:
+        update(S, C, geom_prm, phys_prm, law_prm, died)
+    else:
+        update_par(S, C, geom_prm, phys_prm, law_prm, died)
+    unlink_dead(C, died)
+    if C.ctr[C_CSR_DIRTY]:
+        if 4 * C.ctr[C_DEAD] > C.ctr[C_CONTACTS]:
+            compact(C)
+        build_csr(C, nb)
+    if nb < PARALLEL_THRESHOLD:
+        gather(S, C, nb)
+    else:
+        gather_par(S, C, nb)
+    if S.iscal[I_TRACK_ENERGY]:
+        contact_energy(S, C)

@@ -1,0 +1,147 @@
+"""Linear elastic-frictional contact: FrictMat, FrictPhys and the Cundall-Strack law.
+
+References:
+    P. A. Cundall and O. D. L. Strack (1979), A discrete numerical model for granular
+    assemblies, *Geotechnique* 29(1):47-65.
+    YADE documentation, sections 3.2 (stiffnesses, (3.2,1)), 3.3.2 (incremental shear)
+    and 3.4 (Cundall-Strack law, (3.4,1)-(3.4,2)).
+"""
+
+from __future__ import annotations
+
+import math
+
+from granum._jit import jit
+from granum.core.arrays import S_DT
+from granum.core.contacts import (
+    F_E_DISSIP,
+    F_E_ELAST,
+    F_FN,
+    F_FS,
+    F_KN,
+    F_KS,
+    F_NORMAL,
+    F_PEN,
+    F_R1,
+    F_R2,
+    F_TANPHI,
+)
+from granum.physics import materials, registry
+from granum.physics.registry import Functor, MaterialKind, Param
+from granum.physics.scgeom import contact_shift, scgeom_incident_vel, scgeom_rotate_shear, tangential
+from granum.physics.vec import dot, norm, scale, sub
+
+registry.register_material(MaterialKind(
+    "FrictMat", "ElastMat",
+    (Param("frictionAngle", 0.5, "Contact friction angle [rad]"),),
+    columns={"frictionAngle": "friction_angle"},
+    doc="Elastic material with Coulomb friction."))
+registry.register_phys_type("IPhys")
+registry.register_phys_type("NormPhys", "IPhys", {"kn": (F_KN, 1), "normalForce": (F_FN, 3)})
+registry.register_phys_type("NormShearPhys", "NormPhys", {"ks": (F_KS, 1), "shearForce": (F_FS, 3)})
+registry.register_phys_type("FrictPhys", "NormShearPhys", {"tangensOfFrictionAngle": (F_TANPHI, 1)})
+
+M_FRICTION = materials.column("friction_angle")
+
+
+@jit
+def series_stiffness(e1, l1, e2, l2):
+    """Two springs E_i l_i in series: 2 E1 l1 E2 l2 / (E1 l1 + E2 l2); 0 if both vanish."""
+    den = e1 * l1 + e2 * l2
+    if den == 0.0:
+        return 0.0
+    return 2.0 * e1 * l1 * e2 * l2 / den
+
+
+@jit
+def phys_frict(c, id1, id2, S, C, prm):
+    """FrictPhys constants of a new contact (YADE (3.2,1) and section 3.2.2).
+
+    .. math::
+        k_n = \\frac{2 E_1 r_1 E_2 r_2}{E_1 r_1 + E_2 r_2}, \\quad
+        k_s = \\frac{2 E_1 r_1 \\nu_1 E_2 r_2 \\nu_2}{E_1 r_1 \\nu_1 + E_2 r_2 \\nu_2}, \\quad
+        \\tan\\varphi = \\tan\\min(\\varphi_1, \\varphi_2)
+
+    r_i are the reference radii of the geometry (a non-positive one is replaced by
+    the other: flat bodies borrow the sphere's radius); nu_i is ``poisson``, used
+    as the ratio k_s/k_n.
+    """
+    f = C.con_f
+    r1 = f[c, F_R1]
+    r2 = f[c, F_R2]
+    if r1 <= 0.0:
+        r1 = r2
+    if r2 <= 0.0:
+        r2 = r1
+    m1 = S.mat[S.material[id1]]
+    m2 = S.mat[S.material[id2]]
+    e1 = m1[materials.M_YOUNG]
+    e2 = m2[materials.M_YOUNG]
+    f[c, F_KN] = series_stiffness(e1, r1, e2, r2)
+    f[c, F_KS] = series_stiffness(e1 * m1[materials.M_POISSON], r1, e2 * m2[materials.M_POISSON], r2)
+    f[c, F_TANPHI] = math.tan(min(m1[M_FRICTION], m2[M_FRICTION]))
+
+
+@jit
+def law_cundall_strack(c, id1, id2, S, C, prm):
+    """Cundall-Strack law on an ScGeom (YADE (3.4,1)-(3.4,2)).
+
+    .. math::
+        F_N = k_n \\max(\\delta, 0)\\, n, \\qquad
+        F_T \\leftarrow \\mathrm{rot}(F_T) - k_s\\, \\Delta u_T, \\qquad
+        |F_T| \\le |F_N| \\tan\\varphi
+
+    F_N and F_T act on body 2 (body 1 gets the opposite). Delta u_T is the tangential
+    relative displacement of the step, rot() carries the shear force into the new
+    tangent plane. The contact ends when delta < 0 unless ``neverErase`` (prm[0]).
+    Energies: elastic (|F_N|^2/k_n + |F_T|^2/k_s)/2 and, on slip, the dissipation
+    (F_T^trial - F_T)/k_s . F_T.
+    """
+    f = C.con_f
+    pen = f[c, F_PEN]
+    if pen < 0.0:
+        if prm[0] == 0.0:
+            return False
+        for k in range(6):
+            f[c, F_FN + k] = 0.0
+        f[c, F_E_ELAST] = 0.0
+        f[c, F_E_DISSIP] = 0.0
+        return True
+    kn = f[c, F_KN]
+    ks = f[c, F_KS]
+    n = (f[c, F_NORMAL], f[c, F_NORMAL + 1], f[c, F_NORMAL + 2])
+    fn = scale(n, kn * pen)
+    fs = scgeom_rotate_shear(c, id1, id2, S, C, (f[c, F_FS], f[c, F_FS + 1], f[c, F_FS + 2]))
+    shift, shift_vel = contact_shift(c, S, C)
+    du = scale(tangential(scgeom_incident_vel(c, id1, id2, S, C, shift, shift_vel), n), S.scal[S_DT])
+    fs = sub(fs, scale(du, ks))
+    max_fs2 = dot(fn, fn) * f[c, F_TANPHI] * f[c, F_TANPHI]
+    fs2 = dot(fs, fs)
+    dissip = 0.0
+    if fs2 > max_fs2:
+        trial = fs
+        fs = scale(fs, math.sqrt(max_fs2) / math.sqrt(fs2))
+        dissip = dot(scale(sub(trial, fs), 1.0 / ks), fs)
+    for k in range(3):
+        f[c, F_FN + k] = fn[k]
+        f[c, F_FS + k] = fs[k]
+    elast = 0.5 * dot(fn, fn) / kn if kn > 0.0 else 0.0
+    if ks > 0.0:
+        elast += 0.5 * norm(fs) ** 2 / ks
+    f[c, F_E_ELAST] = elast
+    f[c, F_E_DISSIP] = dissip
+    return True
+
+
+registry.register_functor(Functor(
+    "Ip2_FrictMat_FrictMat_FrictPhys", "phys", ("FrictMat", "FrictMat"), "FrictPhys",
+    f"{__name__}:phys_frict",
+    (Param("frictAngle", None, "Per-material-pair friction angle (MatchMaker); None: min of the two"),),
+    phys_frict.py_func.__doc__))
+registry.register_functor(Functor(
+    "Law2_ScGeom_FrictPhys_CundallStrack", "law", ("ScGeom", "FrictPhys"), None,
+    f"{__name__}:law_cundall_strack",
+    (Param("neverErase", False, "Keep contacts whose penetration became negative [-]"),
+     Param("sphericalBodies", True, "Accepted for compatibility; torques use the contact point [-]"),
+     Param("traceEnergy", False, "Accepted for compatibility; energies follow O.trackEnergy [-]")),
+    law_cundall_strack.py_func.__doc__))

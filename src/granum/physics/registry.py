@@ -1,0 +1,211 @@
+"""Registration of materials and contact functors.
+
+A contact model in granum is a set of pure compiled functions plus a record saying
+which types they handle. Registering them here is all it takes to make them usable:
+the YADE classes (``Ig2_*``, ``Ip2_*``, ``Law2_*``, materials) are generated from
+these records in :mod:`granum.yade`, and the compiled dispatch is generated from
+them in :mod:`granum.kernels.dispatch`.
+
+Type hierarchies (materials, geometry and physics types) follow YADE's class
+hierarchy, because YADE resolves a functor by the smallest distance in that
+hierarchy (an ``Ip2_FrictMat_FrictMat_FrictPhys`` also serves two ``ViscElMat``).
+
+Calling conventions of the registered compiled functions (``S``: scene arrays,
+``C``: contact arrays, ``prm``: float64 parameters of the functor instance):
+
+``geom(c, id1, id2, shift, S, C, prm) -> bool``
+    With ``c < 0``: tell whether the potential pair (id1, id2) is in contact now,
+    without writing anything. With ``c >= 0``: update the geometry columns of the
+    real contact ``c`` (and return True).
+``phys(c, id1, id2, S, C, prm)``
+    Compute the constant physical parameters of a new contact ``c`` from materials.
+``law(c, id1, id2, S, C, prm) -> bool``
+    Compute the normal and shear forces on body 2 (``F_FN``, ``F_FS``) and the
+    energy columns; return False to end the contact.
+``bound(i, S, prm, out)``
+    Write the axis-aligned bound of body ``i`` into ``out`` (min x, y, z, max x, y, z).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from granum.core.bodies import ShapeKind
+
+
+@dataclass(frozen=True)
+class TypeInfo:
+    """A named type in a YADE class hierarchy (IGeom or IPhys).
+
+    ``fields`` maps the YADE attribute names the type adds to its parent to
+    ``(first float column of the contact pool, width)``; the YADE views of
+    interactions (``i.geom``, ``i.phys``) are generated from them.
+    """
+
+    name: str
+    parent: str | None
+    code: int
+    fields: dict = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class Param:
+    """A functor or material parameter: YADE attribute name, default, meaning and units."""
+
+    name: str
+    default: object
+    doc: str = ""
+
+
+@dataclass(frozen=True)
+class MaterialKind:
+    """A material class: its YADE name, parent class and the parameters it adds.
+
+    ``columns`` maps each parameter to the column of the material table holding it.
+    """
+
+    name: str
+    parent: str | None
+    params: tuple[Param, ...]
+    columns: dict = field(default_factory=dict)
+    doc: str = ""
+
+
+@dataclass(frozen=True)
+class Functor:
+    """A registered functor.
+
+    Attributes:
+        yade_name: YADE class name, e.g. ``"Ig2_Sphere_Sphere_ScGeom"``.
+        role: ``"bound"``, ``"geom"``, ``"phys"`` or ``"law"``.
+        types: the dispatch types: shape kinds (bound, geom), material names (phys),
+            (geometry type, physics type) names (law).
+        produces: the IGeom (geom) or IPhys (phys) type name created.
+        func: ``"module:function"`` of the compiled function.
+        params: instance parameters, in the order of the ``prm`` array.
+        doc: description with formula and reference.
+    """
+
+    yade_name: str
+    role: str
+    types: tuple
+    produces: str | None
+    func: str
+    params: tuple[Param, ...] = ()
+    doc: str = ""
+
+
+MATERIALS: dict[str, MaterialKind] = {}
+GEOM_TYPES: dict[str, TypeInfo] = {}
+PHYS_TYPES: dict[str, TypeInfo] = {}
+FUNCTORS: dict[str, Functor] = {}
+
+
+def _add_type(table: dict, name: str, parent: str | None, fields: dict | None) -> None:
+    if parent is not None and parent not in table:
+        raise KeyError(f"parent type {parent!r} of {name!r} is not registered")
+    table.setdefault(name, TypeInfo(name, parent, len(table), dict(fields or {})))
+
+
+def register_geom_type(name: str, parent: str | None = None, fields: dict | None = None) -> None:
+    """Declare an IGeom type (e.g. ``ScGeom``), its parent and the contact columns it exposes."""
+    _add_type(GEOM_TYPES, name, parent, fields)
+
+
+def register_phys_type(name: str, parent: str | None = None, fields: dict | None = None) -> None:
+    """Declare an IPhys type (e.g. ``FrictPhys``), its parent and the contact columns it exposes."""
+    _add_type(PHYS_TYPES, name, parent, fields)
+
+
+def type_fields(table: dict, name: str) -> dict:
+    """All fields of a type, base types first."""
+    out = {}
+    for n in reversed(_type_ancestry(table, name)):
+        out.update(table[n].fields)
+    return out
+
+
+def register_material(kind: MaterialKind) -> None:
+    """Declare a material class with the parameters it adds to its parent."""
+    if kind.parent is not None and kind.parent not in MATERIALS:
+        raise KeyError(f"parent material {kind.parent!r} of {kind.name!r} is not registered")
+    MATERIALS[kind.name] = kind
+
+
+def register_functor(f: Functor) -> None:
+    """Declare a functor (see the module docstring for the compiled calling conventions)."""
+    if f.yade_name in FUNCTORS:
+        raise ValueError(f"functor {f.yade_name} is registered twice")
+    FUNCTORS[f.yade_name] = f
+
+
+def material_code(name: str) -> int:
+    return list(MATERIALS).index(name)
+
+
+def material_ancestry(name: str) -> list[str]:
+    """``[name, parent, grandparent, ...]`` of a material class."""
+    out = []
+    while name is not None:
+        out.append(name)
+        name = MATERIALS[name].parent
+    return out
+
+
+def material_params(name: str) -> list[Param]:
+    """All parameters of a material class, base classes first."""
+    return [p for n in reversed(material_ancestry(name)) for p in MATERIALS[n].params]
+
+
+def material_columns() -> list[str]:
+    """Columns of the compiled material table, in a fixed order."""
+    cols = []
+    for kind in MATERIALS.values():
+        for p in kind.params:
+            col = kind.columns.get(p.name, p.name)
+            if col not in cols:
+                cols.append(col)
+    return cols
+
+
+def _type_ancestry(table: dict, name: str) -> list[str]:
+    out = []
+    while name is not None:
+        out.append(name)
+        name = table[name].parent
+    return out
+
+
+def best_match(candidates: list[Functor], chain_a: list[str], chain_b: list[str]) -> tuple[Functor | None, bool]:
+    """The functor whose two dispatch types are closest to (a, b) in the hierarchy.
+
+    ``chain_a``/``chain_b`` are the ancestries of the two actual types. Returns
+    ``(functor, swapped)``; ``swapped`` tells that the functor is declared for (b, a).
+    Raises ``ValueError`` on a tie between different functors (ambiguous dispatch).
+    """
+    best, best_d, swapped, tie = None, None, False, False
+    for f in candidates:
+        t1, t2 = f.types
+        for sw, (x, y) in ((False, (chain_a, chain_b)), (True, (chain_b, chain_a))):
+            if t1 in x and t2 in y:
+                d = x.index(t1) + y.index(t2)
+                if best_d is None or d < best_d:
+                    best, best_d, swapped, tie = f, d, sw, False
+                elif d == best_d and f is not best:
+                    tie = True
+    if tie:
+        raise ValueError(f"ambiguous dispatch for {chain_a[0]}+{chain_b[0]}")
+    return best, swapped
+
+
+def geom_ancestry(name: str) -> list[str]:
+    return _type_ancestry(GEOM_TYPES, name)
+
+
+def phys_ancestry(name: str) -> list[str]:
+    return _type_ancestry(PHYS_TYPES, name)
+
+
+def shape_name(kind: ShapeKind) -> str:
+    """YADE class name of a shape kind."""
+    return kind.name.capitalize()

@@ -1,0 +1,63 @@
+"""Sphere shape: bound and sphere-sphere contact geometry.
+
+References:
+    YADE documentation, section 3.3.1 (sphere-sphere ScGeom), equations (3.3,1)-(3.3,6).
+"""
+
+from __future__ import annotations
+
+from granum._jit import jit
+from granum.core.bodies import ShapeKind
+from granum.physics import registry
+from granum.physics.registry import Functor, Param
+from granum.physics.scgeom import scgeom_write
+from granum.physics.vec import add, load3, norm, scale, sub
+
+
+@jit
+def bound_sphere(i, S, prm, out):
+    """Aabb of sphere ``i``: centre +- radius (radius times ``aabbEnlargeFactor`` if > 0)."""
+    r = S.sphere_radius[S.shape_row[i]]
+    if prm[0] > 0.0:
+        r *= prm[0]
+    for k in range(3):
+        out[k] = S.pos[i, k] - r
+        out[3 + k] = S.pos[i, k] + r
+
+
+@jit
+def geom_sphere_sphere(c, id1, id2, shift, S, C, prm):
+    """Sphere-sphere ScGeom.
+
+    .. math::
+        \\delta = r_1 + r_2 - |x_2 - x_1|, \\quad n = (x_2 - x_1)/|x_2 - x_1|,
+        \\quad C = x_1 + (r_1 - \\delta/2)\\, n
+
+    A potential pair becomes real when |x2 - x1| <= f (r1 + r2), f being
+    ``interactionDetectionFactor`` (prm[0]).
+    """
+    r1 = S.sphere_radius[S.shape_row[id1]]
+    r2 = S.sphere_radius[S.shape_row[id2]]
+    p1 = load3(S.pos, id1)
+    d = sub(add(load3(S.pos, id2), shift), p1)
+    dist = norm(d)
+    if c < 0:
+        return dist <= prm[0] * (r1 + r2)
+    pen = r1 + r2 - dist
+    n = scale(d, 1.0 / dist)
+    scgeom_write(c, C, n, pen, add(p1, scale(n, r1 - 0.5 * pen)), r1, r2, prm[1] != 0.0)
+    return True
+
+
+registry.register_functor(Functor(
+    "Bo1_Sphere_Aabb", "bound", (ShapeKind.SPHERE,), None, f"{__name__}:bound_sphere",
+    (Param("aabbEnlargeFactor", -1.0, "Scale the radius of the bound by this factor if positive [-]"),),
+    "Axis-aligned bound of a sphere."))
+registry.register_functor(Functor(
+    "Ig2_Sphere_Sphere_ScGeom", "geom", (ShapeKind.SPHERE, ShapeKind.SPHERE), "ScGeom",
+    f"{__name__}:geom_sphere_sphere",
+    (Param("interactionDetectionFactor", 1.0,
+           "Make the contact real when the distance is below this factor times r1 + r2 [-]"),
+     Param("avoidGranularRatcheting", True,
+           "Use reference radii as lever arms in the relative velocity (see ScGeom) [-]")),
+    geom_sphere_sphere.py_func.__doc__))

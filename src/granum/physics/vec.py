@@ -1,0 +1,110 @@
+"""Small-vector algebra on tuples, for use inside compiled kernels.
+
+Vectors are ``(x, y, z)`` tuples of floats and quaternions ``(w, x, y, z)`` tuples.
+Tuples live in registers: unlike small NumPy arrays they never touch the heap, which
+keeps per-contact functions allocation-free (and portable to a GPU backend).
+Quaternions are unit quaternions mapping the body (local) frame to the global frame.
+"""
+
+from __future__ import annotations
+
+import math
+
+from granum._jit import jit
+
+
+@jit
+def load3(a, i):
+    """Row ``i`` of an (n, 3) array as a tuple."""
+    return (a[i, 0], a[i, 1], a[i, 2])
+
+
+@jit
+def store3(a, i, v):
+    """Write tuple ``v`` into row ``i`` of an (n, 3) array."""
+    a[i, 0] = v[0]
+    a[i, 1] = v[1]
+    a[i, 2] = v[2]
+
+
+@jit
+def load4(a, i):
+    """Row ``i`` of an (n, 4) array as a tuple."""
+    return (a[i, 0], a[i, 1], a[i, 2], a[i, 3])
+
+
+@jit
+def add(a, b):
+    return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
+
+
+@jit
+def sub(a, b):
+    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+
+
+@jit
+def scale(a, s):
+    return (a[0] * s, a[1] * s, a[2] * s)
+
+
+@jit
+def dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+@jit
+def cross(a, b):
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+@jit
+def norm(a):
+    return math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
+
+
+@jit
+def quat_rotate(q, v):
+    """Rotate vector ``v`` by unit quaternion ``q = (w, x, y, z)``: q v q*."""
+    w = q[0]
+    u = (q[1], q[2], q[3])
+    t = scale(cross(u, v), 2.0)
+    return add(add(v, scale(t, w)), cross(u, t))
+
+
+@jit
+def quat_rotate_inv(q, v):
+    """Rotate vector ``v`` by the conjugate of ``q``: global to local frame."""
+    return quat_rotate((q[0], -q[1], -q[2], -q[3]), v)
+
+
+@jit
+def quat_mul(a, b):
+    """Hamilton product ``a * b`` of quaternions (w, x, y, z)."""
+    return (a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3],
+            a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2],
+            a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1],
+            a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0])
+
+
+@jit
+def quat_normalized(q):
+    n = math.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
+    return (q[0] / n, q[1] / n, q[2] / n, q[3] / n)
+
+
+@jit
+def quat_from_rotvec(r):
+    """Unit quaternion of the rotation by angle |r| about r/|r| (identity for r = 0)."""
+    angle = norm(r)
+    if angle == 0.0:
+        return (1.0, 0.0, 0.0, 0.0)
+    s = math.sin(0.5 * angle) / angle
+    return (math.cos(0.5 * angle), r[0] * s, r[1] * s, r[2] * s)
+
+
+@jit
+def quat_angle(q):
+    """Rotation angle of a unit quaternion, in [0, pi] [rad]."""
+    w = min(1.0, abs(q[0]))
+    return 2.0 * math.acos(w)

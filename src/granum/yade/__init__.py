@@ -1,0 +1,78 @@
+"""The YADE scripting layer: everything a YADE script finds without importing.
+
+``from granum.yade import *`` gives an ordinary Python program the namespace of a
+YADE script: ``O``, the engine, functor, shape and material classes, the
+``yade.utils`` functions, the math types and everything from :mod:`math`. Scripts
+run by the ``granum`` launcher get it automatically, and there ``import yade`` and
+``from yade import pack, plot, ...`` resolve to this package.
+"""
+
+from __future__ import annotations
+
+import math as _math
+
+from granum.engines.base import Engine, GlobalEngine, PartialEngine, PeriodicEngine
+from granum.engines.functors import CLASSES as _FUNCTORS
+from granum.engines.functors import BoundFunctor, Functor, IGeomFunctor, IPhysFunctor, LawFunctor
+from granum.engines.kinematic import ForceEngine, RotationEngine, TranslationEngine
+from granum.engines.pipeline import (
+    ForceResetter,
+    GravityEngine,
+    InsertionSortCollider,
+    InteractionLoop,
+    NewtonIntegrator,
+)
+from granum.engines.pyrunner import PyRunner
+from granum.engines.runner import SimulationError
+from granum.mathtypes import Matrix3, Quaternion, Vector2, Vector2i, Vector3, Vector3i, Vector6
+from granum.yade import export, geom, pack, plot, qt, timing, utils, ymport
+from granum.yade.batch import readParamsFromTable, runningInBatch, waitIfBatch
+from granum.yade.bodies import Aabb, Body, Box, Facet, Shape, Sphere, State, Wall
+from granum.yade.interactions import GEOM_VIEWS as _GEOMS
+from granum.yade.interactions import PHYS_VIEWS as _PHYSS
+from granum.yade.interactions import Interaction
+from granum.yade.materials import CLASSES as _MATERIALS
+from granum.yade.omega import O, Omega
+from granum.yade.utils import *  # noqa: F403
+from granum.yade.utils import __all__ as _utils_all
+
+
+class _GlMeta(type):
+    """Class-level attributes of display functors (``Gl1_Sphere.stripes = True``) are accepted."""
+
+
+def _gl(name: str) -> type:
+    return _GlMeta(name, (), {"__doc__": f"Display functor {name} (accepted; granum draws no OpenGL).",
+                              "__init__": lambda self, **kw: self.__dict__.update(kw)})
+
+
+_GL_NAMES = ("Gl1_Sphere", "Gl1_Facet", "Gl1_Wall", "Gl1_Box", "Gl1_Aabb", "Gl1_NormPhys", "Gl1_L3Geom",
+             "Gl1_L6Geom", "Gl1_CpmPhys", "Gl1_Cylinder", "Gl1_ChainedCylinder", "Gl1_Polyhedra",
+             "Gl1_PFacet", "Gl1_GridConnection", "GlExtra_LawTester", "OpenGLRenderer")
+
+_namespace: dict = {name: getattr(_math, name) for name in dir(_math) if not name.startswith("_")}
+_namespace.update({name: _gl(name) for name in _GL_NAMES})
+_namespace.update(_FUNCTORS)
+_namespace.update(_MATERIALS)
+_namespace.update(_GEOMS)
+_namespace.update(_PHYSS)
+_namespace.update({name: getattr(utils, name) for name in _utils_all})
+_namespace.update(
+    O=O, Omega=Omega, Engine=Engine, GlobalEngine=GlobalEngine, PartialEngine=PartialEngine,
+    PeriodicEngine=PeriodicEngine, Functor=Functor, BoundFunctor=BoundFunctor, IGeomFunctor=IGeomFunctor,
+    IPhysFunctor=IPhysFunctor, LawFunctor=LawFunctor, ForceResetter=ForceResetter, GravityEngine=GravityEngine,
+    InsertionSortCollider=InsertionSortCollider, InteractionLoop=InteractionLoop, NewtonIntegrator=NewtonIntegrator,
+    PyRunner=PyRunner, ForceEngine=ForceEngine, TranslationEngine=TranslationEngine, RotationEngine=RotationEngine,
+    SimulationError=SimulationError, Body=Body, State=State, Shape=Shape, Sphere=Sphere, Facet=Facet, Wall=Wall,
+    Box=Box, Aabb=Aabb, Interaction=Interaction, Vector2=Vector2, Vector2i=Vector2i, Vector3=Vector3,
+    Vector3i=Vector3i, Vector6=Vector6, Matrix3=Matrix3, Quaternion=Quaternion,
+    readParamsFromTable=readParamsFromTable, waitIfBatch=waitIfBatch, runningInBatch=runningInBatch,
+    utils=utils, geom=geom, pack=pack, plot=plot, qt=qt, timing=timing, ymport=ymport, export=export,
+)
+globals().update(_namespace)
+__all__ = sorted(_namespace)
+
+
+def namespace() -> dict:
+    """A fresh copy of the script namespace (what a YADE script sees without imports)."""
+    return dict(_namespace)

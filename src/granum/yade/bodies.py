@@ -1,0 +1,618 @@
+"""``Body``, ``State``, the shapes and ``O.bodies``: views onto the body storage.
+
+None of these objects holds data. A :class:`Body` is a handle ``(store, id)`` onto a
+row of a :class:`~granum.core.scene.BodyStore`; ``b.state`` and ``b.shape`` are views
+through that handle, and vectors they return (``b.state.pos``) are views onto the
+storage rows, so ``b.state.vel[2] = 1`` writes into the scene's arrays. A body
+created by ``utils.sphere(...)`` lives in a private one-row store until
+``O.bodies.append`` copies it into the scene and re-points the handle.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from granum.core.bodies import DOF_ALL, ShapeKind, dofs_from_string, dofs_to_string
+from granum.core.contacts import C_CONTACTS, FLAG_ALIVE, I_FLAGS, I_ID1, I_ID2, end_contact
+from granum.core.scene import BodyStore, Scene
+from granum.mathtypes import Quaternion, Vector3, as_quat_wxyz, as_vec3
+
+
+def _new_detached() -> tuple[BodyStore, int]:
+    store = BodyStore(capacity=1)
+    row = store.bodies.append_rows(1)
+    store.bodies.alive[row] = True
+    return store, row
+
+
+def _finite3(owner: str, name: str, value) -> np.ndarray:
+    a = as_vec3(value)
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{owner}.{name} must be finite, got {tuple(a)}")
+    return a
+
+
+class Body:
+    """A particle: shape, material and state (YADE ``Body``). ``id`` is -1 until appended."""
+
+    __slots__ = ("_store", "_row")
+    ID_NONE = -1
+
+    def __init__(self, shape=None, state=None, material=None, mask: int = 1, dynamic=None):
+        store, row = _new_detached()
+        object.__setattr__(self, "_store", store)
+        object.__setattr__(self, "_row", row)
+        if state is not None:
+            self.state = state
+        if shape is not None:
+            self.shape = shape
+        if material is not None:
+            self.material = material
+        self.mask = mask
+        if dynamic is not None:
+            self.dynamic = dynamic
+
+    # ---- identity -----------------------------------------------------------------
+    @property
+    def id(self) -> int:
+        return self._row if isinstance(self._store, Scene) else Body.ID_NONE
+
+    def _col(self, name: str):
+        return getattr(self._store.bodies, name)
+
+    def _attached(self) -> bool:
+        return isinstance(self._store, Scene)
+
+    def __eq__(self, other):
+        return isinstance(other, Body) and other._store is self._store and other._row == self._row
+
+    def __hash__(self):
+        return hash((id(self._store), self._row))
+
+    def __repr__(self):
+        return f"<Body instance at {hex(id(self))}, id {self.id}>"
+
+    # ---- parts ----------------------------------------------------------------------
+    @property
+    def state(self) -> State:
+        return State._view(self)
+
+    @state.setter
+    def state(self, st: State) -> None:
+        if not isinstance(st, State):
+            raise TypeError(f"Body.state must be a State, got {st!r}")
+        src = st._body
+        for name in State._columns:
+            self._col(name)[self._row] = src._col(name)[src._row]
+
+    @property
+    def shape(self):
+        kind = ShapeKind(int(self._col("shape_kind")[self._row]))
+        cls = SHAPE_CLASSES.get(kind)
+        return None if cls is None else cls._view(self)
+
+    @shape.setter
+    def shape(self, sh) -> None:
+        if not isinstance(sh, Shape):
+            raise TypeError(f"Body.shape must be a Shape (Sphere, Facet, Wall, Box), got {sh!r}")
+        src = sh._body
+        kind, table, row = src._store.shape_table(src._row)
+        dst = self._store.shapes[kind]
+        new_row = dst.append_rows(1)
+        dst.copy_row(table, row, new_row)
+        b = self._store.bodies
+        b.shape_kind[self._row] = int(kind)
+        b.shape_row[self._row] = new_row
+        for name in ("color", "wire", "highlight"):
+            getattr(b, name)[self._row] = src._col(name)[src._row]
+        b.aspherical[self._row] = kind == ShapeKind.BOX
+        self._touch()
+
+    @property
+    def material(self):
+        k = int(self._col("material")[self._row])
+        return None if k < 0 else self._store.materials[k]
+
+    @material.setter
+    def material(self, m) -> None:
+        from granum.yade.materials import Material
+
+        if not isinstance(m, Material):
+            raise TypeError(f"Body.material must be a Material, got {m!r}")
+        self._col("material")[self._row] = self._store.material_index(m)
+
+    mat = material
+
+    @property
+    def bound(self):
+        b = self._store.bodies
+        if not self._attached() or not b.bound_min[self._row, 0] <= b.bound_max[self._row, 0]:
+            return None
+        return Aabb(self)
+
+    # ---- flags ----------------------------------------------------------------------
+    @property
+    def mask(self) -> int:
+        return int(self._col("mask")[self._row])
+
+    @mask.setter
+    def mask(self, value: int) -> None:
+        self._col("mask")[self._row] = int(value)
+        self._touch()
+
+    groupMask = mask
+
+    @property
+    def dynamic(self) -> bool:
+        return int(self._col("blocked")[self._row]) != DOF_ALL
+
+    @dynamic.setter
+    def dynamic(self, value: bool) -> None:
+        self._col("blocked")[self._row] = 0 if value else DOF_ALL
+        if not value:
+            self._col("vel")[self._row] = 0.0
+            self._col("ang_vel")[self._row] = 0.0
+
+    @property
+    def aspherical(self) -> bool:
+        return bool(self._col("aspherical")[self._row])
+
+    @aspherical.setter
+    def aspherical(self, value: bool) -> None:
+        self._col("aspherical")[self._row] = bool(value)
+
+    @property
+    def clumpId(self) -> int:
+        return int(self._col("clump_id")[self._row])
+
+    @property
+    def isClump(self) -> bool:
+        return int(self._col("shape_kind")[self._row]) == ShapeKind.CLUMP
+
+    @property
+    def isClumpMember(self) -> bool:
+        return self.clumpId >= 0 and not self.isClump
+
+    @property
+    def isStandalone(self) -> bool:
+        return self.clumpId < 0
+
+    def intrs(self) -> list:
+        """Real interactions of this body."""
+        from granum.yade.interactions import Interaction
+
+        if not self._attached():
+            return []
+        C = self._store.contacts
+        rows = np.nonzero(((C.con_i[:, I_ID1] == self._row) | (C.con_i[:, I_ID2] == self._row))
+                          & (C.con_i[:, I_FLAGS] & FLAG_ALIVE != 0))[0]
+        return [Interaction(self._store, int(C.con_i[c, I_ID1]), int(C.con_i[c, I_ID2])) for c in rows
+                if c < C.ctr[C_CONTACTS]]
+
+    def _touch(self) -> None:
+        """The body's geometry changed: make the collider run again."""
+        if self._attached():
+            self._store.needs_collider()
+
+    def __setattr__(self, name, value):
+        if not hasattr(type(self), name):
+            raise AttributeError(f"Body has no attribute {name!r}")
+        object.__setattr__(self, name, value)
+
+
+class _View:
+    """A view through a body handle; unknown attribute names raise AttributeError."""
+
+    __slots__ = ("_body",)
+
+    def __setattr__(self, name, value):
+        if name != "_body" and not hasattr(type(self), name):
+            raise AttributeError(f"{type(self).__name__} has no attribute {name!r}")
+        object.__setattr__(self, name, value)
+
+    def _col(self, name: str):
+        return self._body._col(name)
+
+    @property
+    def _row(self) -> int:
+        return self._body._row
+
+    def _owner(self) -> str:
+        i = self._body.id
+        return type(self).__name__ if i < 0 else f"{type(self).__name__} of body {i}"
+
+
+def _vec_property(column: str, doc: str, touch: bool = False):
+    def get(self):
+        return Vector3._wrap(self._col(column)[self._row])
+
+    def set(self, value):
+        self._col(column)[self._row] = _finite3(self._owner(), column, value)
+        if touch:
+            self._body._touch()
+
+    return property(get, set, doc=doc)
+
+
+def _quat_property(column: str, doc: str):
+    def get(self):
+        return Quaternion._wrap(self._col(column)[self._row])
+
+    def set(self, value):
+        q = as_quat_wxyz(value)
+        n = np.linalg.norm(q)
+        if not (np.isfinite(n) and n > 0):
+            raise ValueError(f"{self._owner()}.{column} must be a finite non-zero quaternion")
+        self._col(column)[self._row] = q / n
+
+    return property(get, set, doc=doc)
+
+
+class State(_View):
+    """Kinematic state and mass properties of a body (YADE ``State``)."""
+
+    __slots__ = ()
+    _columns = ("pos", "vel", "ori", "ang_vel", "ang_mom", "mass", "inertia", "blocked", "is_damped",
+                "ref_pos", "ref_ori")
+
+    def __init__(self, **kw):
+        store, row = _new_detached()
+        body = object.__new__(Body)
+        object.__setattr__(body, "_store", store)
+        object.__setattr__(body, "_row", row)
+        object.__setattr__(self, "_body", body)
+        for k, v in kw.items():
+            setattr(self, k, v)
+
+    @classmethod
+    def _view(cls, body: Body) -> State:
+        st = object.__new__(cls)
+        object.__setattr__(st, "_body", body)
+        return st
+
+    pos = _vec_property("pos", "Position of the centre of mass [m]", touch=False)
+    vel = _vec_property("vel", "Linear velocity [m/s]")
+    refPos = _vec_property("ref_pos", "Reference position [m]")
+    angMom = _vec_property("ang_mom", "Angular momentum [kg m^2/s]")
+    inertia = _vec_property("inertia", "Principal moments of inertia [kg m^2]")
+    ori = _quat_property("ori", "Orientation")
+    refOri = _quat_property("ref_ori", "Reference orientation")
+
+    @property
+    def angVel(self):
+        """Angular velocity [rad/s]."""
+        return Vector3._wrap(self._col("ang_vel")[self._row])
+
+    @angVel.setter
+    def angVel(self, value) -> None:
+        w = _finite3(self._owner(), "angVel", value)
+        self._col("ang_vel")[self._row] = w
+        # aspherical bodies are integrated through their angular momentum: keep it consistent
+        q = Quaternion._wrap(self._col("ori")[self._row])
+        r = np.asarray(q.toRotationMatrix()._a)
+        self._col("ang_mom")[self._row] = r @ (self._col("inertia")[self._row] * (r.T @ w))
+
+    @property
+    def mass(self) -> float:
+        """Mass [kg]."""
+        return float(self._col("mass")[self._row])
+
+    @mass.setter
+    def mass(self, value: float) -> None:
+        x = float(value)
+        if not (math.isfinite(x) and x >= 0):
+            raise ValueError(f"{self._owner()}.mass must be a finite non-negative number, got {value!r}")
+        self._col("mass")[self._row] = x
+
+    @property
+    def blockedDOFs(self) -> str:
+        """Blocked degrees of freedom, a subset of ``'xyzXYZ'``."""
+        return dofs_to_string(int(self._col("blocked")[self._row]))
+
+    @blockedDOFs.setter
+    def blockedDOFs(self, value: str) -> None:
+        self._col("blocked")[self._row] = dofs_from_string(value)
+
+    @property
+    def isDamped(self) -> bool:
+        return bool(self._col("is_damped")[self._row])
+
+    @isDamped.setter
+    def isDamped(self, value: bool) -> None:
+        self._col("is_damped")[self._row] = bool(value)
+
+    @property
+    def se3(self):
+        return (self.pos, self.ori)
+
+    def displ(self):
+        """Displacement from the reference position [m]."""
+        return self.pos - self.refPos
+
+    def rot(self):
+        """Rotation vector from the reference orientation [rad]."""
+        q = self.ori * self.refOri.conjugate()
+        axis, angle = q.toAxisAngle()
+        return axis * angle
+
+    def __repr__(self):
+        return f"<State instance at {hex(id(self))}>"
+
+
+class Aabb(_View):
+    """Axis-aligned bound of a body (read-only view; includes the Verlet enlargement)."""
+
+    __slots__ = ()
+
+    def __init__(self, body: Body):
+        object.__setattr__(self, "_body", body)
+
+    @property
+    def min(self):
+        return Vector3(*self._col("bound_min")[self._row])
+
+    @property
+    def max(self):
+        return Vector3(*self._col("bound_max")[self._row])
+
+
+class Shape(_View):
+    """Base of shapes: ``color``, ``wire``, ``highlight`` (YADE ``Shape``)."""
+
+    __slots__ = ()
+    kind = ShapeKind.NONE
+
+    def __init__(self, color=None, wire: bool = False, highlight: bool = False, **kw):
+        store, row = _new_detached()
+        body = object.__new__(Body)
+        object.__setattr__(body, "_store", store)
+        object.__setattr__(body, "_row", row)
+        object.__setattr__(self, "_body", body)
+        store.bodies.shape_kind[row] = int(self.kind)
+        store.bodies.shape_row[row] = store.shapes[self.kind].append_rows(1) if self.kind in store.shapes else -1
+        if color is not None:
+            self.color = color
+        self.wire = wire
+        self.highlight = highlight
+        for k, v in kw.items():
+            setattr(self, k, v)
+
+    @classmethod
+    def _view(cls, body: Body):
+        sh = object.__new__(cls)
+        object.__setattr__(sh, "_body", body)
+        return sh
+
+    def _table(self):
+        b = self._body
+        return b._store.shapes[self.kind], int(b._col("shape_row")[b._row])
+
+    color = _vec_property("color", "Display colour, RGB in [0, 1]")
+
+    @property
+    def wire(self) -> bool:
+        return bool(self._col("wire")[self._row])
+
+    @wire.setter
+    def wire(self, value: bool) -> None:
+        self._col("wire")[self._row] = bool(value)
+
+    @property
+    def highlight(self) -> bool:
+        return bool(self._col("highlight")[self._row])
+
+    @highlight.setter
+    def highlight(self, value: bool) -> None:
+        self._col("highlight")[self._row] = bool(value)
+
+    def __repr__(self):
+        return f"<{type(self).__name__} instance at {hex(id(self))}>"
+
+
+class Sphere(Shape):
+    """Sphere of radius ``radius`` [m]."""
+
+    __slots__ = ()
+    kind = ShapeKind.SPHERE
+
+    @property
+    def radius(self) -> float:
+        t, row = self._table()
+        return float(t.radius[row])
+
+    @radius.setter
+    def radius(self, value: float) -> None:
+        r = float(value)
+        if not (math.isfinite(r) and r > 0):
+            raise ValueError(f"{self._owner()}.radius must be positive and finite, got {value!r}")
+        t, row = self._table()
+        t.radius[row] = r
+        self._body._touch()
+
+
+class Facet(Shape):
+    """Triangle given by three vertices relative to the body position [m] (local frame)."""
+
+    __slots__ = ()
+    kind = ShapeKind.FACET
+
+    @property
+    def vertices(self) -> list:
+        t, row = self._table()
+        return [Vector3._wrap(t.vertices[row, k]) for k in range(3)]
+
+    @vertices.setter
+    def vertices(self, value) -> None:
+        v = np.array([as_vec3(x) for x in value]) if len(value) == 3 else None
+        if v is None or not np.all(np.isfinite(v)):
+            raise ValueError(f"{self._owner()}.vertices must be three finite 3-vectors")
+        n = np.cross(v[1] - v[0], v[2] - v[0])
+        area2 = np.linalg.norm(n)
+        if not area2 > 0:
+            raise ValueError(f"{self._owner()}.vertices are collinear: the facet has no area")
+        t, row = self._table()
+        t.vertices[row] = v
+        t.normal[row] = n / area2
+        self._body._touch()
+
+    @property
+    def normal(self):
+        t, row = self._table()
+        return Vector3(*t.normal[row])
+
+    @property
+    def area(self) -> float:
+        t, row = self._table()
+        v = t.vertices[row]
+        return 0.5 * float(np.linalg.norm(np.cross(v[1] - v[0], v[2] - v[0])))
+
+
+class Wall(Shape):
+    """Infinite plane normal to ``axis`` (0, 1, 2); ``sense`` -1, 0, +1 selects the active side."""
+
+    __slots__ = ()
+    kind = ShapeKind.WALL
+
+    @property
+    def axis(self) -> int:
+        t, row = self._table()
+        return int(t.axis[row])
+
+    @axis.setter
+    def axis(self, value: int) -> None:
+        if value not in (0, 1, 2):
+            raise ValueError(f"{self._owner()}.axis must be 0, 1 or 2, got {value!r}")
+        t, row = self._table()
+        t.axis[row] = value
+        self._body._touch()
+
+    @property
+    def sense(self) -> int:
+        t, row = self._table()
+        return int(t.sense[row])
+
+    @sense.setter
+    def sense(self, value: int) -> None:
+        if value not in (-1, 0, 1):
+            raise ValueError(f"{self._owner()}.sense must be -1, 0 or 1, got {value!r}")
+        t, row = self._table()
+        t.sense[row] = value
+
+
+class Box(Shape):
+    """Cuboid with half-sizes ``extents`` [m] along its local axes."""
+
+    __slots__ = ()
+    kind = ShapeKind.BOX
+
+    @property
+    def extents(self):
+        t, row = self._table()
+        return Vector3._wrap(t.extents[row])
+
+    @extents.setter
+    def extents(self, value) -> None:
+        e = _finite3(self._owner(), "extents", value)
+        if np.any(e < 0):
+            raise ValueError(f"{self._owner()}.extents must be non-negative, got {tuple(e)}")
+        t, row = self._table()
+        t.extents[row] = e
+        self._body._touch()
+
+
+SHAPE_CLASSES = {ShapeKind.SPHERE: Sphere, ShapeKind.FACET: Facet, ShapeKind.WALL: Wall, ShapeKind.BOX: Box}
+
+
+class BodyContainer:
+    """``O.bodies``: bodies by id; appending copies a body into the scene's storage."""
+
+    def __init__(self, omega):
+        self._omega = omega
+
+    @property
+    def _scene(self) -> Scene:
+        return self._omega._scene
+
+    def __len__(self) -> int:
+        return self._scene.body_count
+
+    def _check(self, i: int) -> int:
+        n = self._scene.body_count
+        if not isinstance(i, int | np.integer):
+            raise TypeError(f"body id must be an integer, got {i!r}")
+        i = int(i)
+        if i < 0:
+            i += n
+        if not 0 <= i < n:
+            raise IndexError(f"Body id out of range: {i} (there are {n} bodies)")
+        return i
+
+    def __getitem__(self, i):
+        i = self._check(i)
+        if not self._scene.bodies.alive[i]:
+            return None
+        b = object.__new__(Body)
+        object.__setattr__(b, "_store", self._scene)
+        object.__setattr__(b, "_row", i)
+        return b
+
+    def __iter__(self):
+        for i in range(self._scene.body_count):
+            b = self[i]
+            if b is not None:
+                yield b
+
+    def append(self, b):
+        """Add a body (return its id) or a list of bodies (return the list of ids)."""
+        if isinstance(b, list | tuple):
+            return [self.append(x) for x in b]
+        if not isinstance(b, Body):
+            raise TypeError(f"O.bodies.append: expected a Body, got {b!r}")
+        scene = self._scene
+        if isinstance(b._store, Scene):
+            raise ValueError(f"O.bodies.append: this body is already in a simulation (id {b._row}); "
+                             f"create a new body instead of appending it twice")
+        src, row = b._store, b._row
+        if src.bodies.shape_kind[row] == ShapeKind.NONE:
+            raise ValueError("O.bodies.append: the body has no shape")
+        i = scene.add_body_row()
+        scene.bodies.copy_row(src.bodies, row, i)
+        kind, table, srow = src.shape_table(row)
+        if table is not None:
+            new_row = scene.shapes[kind].append_rows(1)
+            scene.shapes[kind].copy_row(table, srow, new_row)
+            scene.bodies.shape_row[i] = new_row
+        mat = b.material
+        if mat is None:
+            mat = self._omega.default_material()
+        scene.bodies.material[i] = scene.material_index(mat)
+        scene.bodies.alive[i] = True
+        scene.bodies.clump_id[i] = -1
+        object.__setattr__(b, "_store", scene)
+        object.__setattr__(b, "_row", i)
+        return i
+
+    def erase(self, i: int, eraseClumpMembers: bool = False) -> bool:
+        """Remove body ``i`` and its interactions (its id is not reused)."""
+        i = self._check(i)
+        scene = self._scene
+        if not scene.bodies.alive[i]:
+            return False
+        scene.bodies.alive[i] = False
+        C = scene.contacts
+        n = int(C.ctr[C_CONTACTS])
+        for c in np.nonzero((C.con_i[:n, I_ID1] == i) | (C.con_i[:n, I_ID2] == i))[0]:
+            if C.con_i[c, I_FLAGS] & FLAG_ALIVE:
+                end_contact(C, c)
+        scene.needs_collider()
+        return True
+
+    def clear(self) -> None:
+        """Remove all bodies and interactions."""
+        self._scene.clear_bodies()
+
+    def replace(self, bodies) -> list:
+        self.clear()
+        return self.append(list(bodies))

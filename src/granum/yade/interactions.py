@@ -1,0 +1,272 @@
+"""``Interaction``, its ``geom``/``phys`` views and ``O.interactions``.
+
+An :class:`Interaction` is a handle ``(scene, id1, id2)``; it finds its row in the
+interaction storage when accessed (rows move when dead contacts are compacted) and
+reads and writes the columns of that row. The classes of ``i.geom`` and ``i.phys``
+(``ScGeom``, ``FrictPhys``, ...) are generated from the types of the registry,
+with the attributes their physics modules expose.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from granum.core.contacts import (
+    C_CONTACTS,
+    C_PAIRS,
+    FLAG_ALIVE,
+    I_BORN,
+    I_CELL,
+    I_FLAGS,
+    I_GEOM,
+    I_ID1,
+    I_ID2,
+    I_PAIR,
+    I_PHYS,
+    end_contact,
+)
+from granum.kernels.dispatch import functors
+from granum.mathtypes import Vector3, Vector3i
+from granum.physics import registry
+
+
+def find_pair(C, a: int, b: int) -> int:
+    """Index of the potential pair (a, b) in the sorted pair list, or -1."""
+    if a > b:
+        a, b = b, a
+    n = int(C.ctr[C_PAIRS])
+    keys = C.pair_ids[:n]
+    lo = np.searchsorted(keys[:, 0], a, side="left")
+    hi = np.searchsorted(keys[:, 0], a, side="right")
+    k = lo + np.searchsorted(keys[lo:hi, 1], b)
+    return int(k) if k < hi and keys[k, 1] == b else -1
+
+
+def find_contact(C, a: int, b: int) -> int:
+    """Row of the live contact between bodies a and b, or -1."""
+    p = find_pair(C, a, b)
+    if p >= 0:
+        return int(C.pair_con[p])
+    n = int(C.ctr[C_CONTACTS])  # contacts that outlived their pair (bounds apart)
+    rows = np.nonzero(((C.con_i[:n, I_ID1] == a) & (C.con_i[:n, I_ID2] == b)
+                       | (C.con_i[:n, I_ID1] == b) & (C.con_i[:n, I_ID2] == a))
+                      & (C.con_i[:n, I_FLAGS] & FLAG_ALIVE != 0))[0]
+    return int(rows[0]) if rows.size else -1
+
+
+class _ContactView:
+    """Attributes mapped onto float columns of one contact row (see TypeInfo.fields)."""
+
+    __slots__ = ("_intr",)
+    _fields: dict = {}
+
+    def __init__(self, intr):
+        object.__setattr__(self, "_intr", intr)
+
+    def __getattr__(self, name):
+        f = type(self)._fields.get(name)
+        if f is None:
+            raise AttributeError(f"{type(self).__name__} has no attribute {name!r}")
+        col, width = f
+        row = self._intr._row_or_raise()
+        a = self._intr._scene.contacts.con_f
+        if width == 1:
+            return float(a[row, col])
+        return Vector3._wrap(a[row, col:col + 3])
+
+    def __setattr__(self, name, value):
+        f = type(self)._fields.get(name)
+        if f is None:
+            raise AttributeError(f"{type(self).__name__} has no attribute {name!r}")
+        col, width = f
+        row = self._intr._row_or_raise()
+        a = self._intr._scene.contacts.con_f
+        if width == 1:
+            a[row, col] = float(value)
+        else:
+            a[row, col:col + 3] = np.asarray(value, dtype=float)
+
+    def __dir__(self):
+        return list(type(self)._fields)
+
+    def __repr__(self):
+        return f"<{type(self).__name__} instance at {hex(id(self))}>"
+
+
+def _make_views(table: dict) -> dict:
+    views = {}
+    for name in table:
+        parent = table[name].parent
+        base = views[parent] if parent else _ContactView
+        views[name] = type(name, (base,), {"__slots__": (), "_fields": registry.type_fields(table, name),
+                                           "__module__": __name__})
+    return views
+
+
+GEOM_VIEWS = _make_views(registry.GEOM_TYPES)
+PHYS_VIEWS = _make_views(registry.PHYS_TYPES)
+
+
+class Interaction:
+    """A pair of bodies: potential (bounds overlap) or real (``geom`` and ``phys`` exist)."""
+
+    __slots__ = ("_scene", "_id1", "_id2", "_cache")
+
+    def __init__(self, scene, id1: int, id2: int):
+        self._scene = scene
+        self._id1, self._id2 = int(id1), int(id2)
+        self._cache = None
+
+    def _row(self) -> int:
+        key = (id(self._scene.contacts), self._scene.iter)
+        if self._cache is not None and self._cache[0] == key:
+            return self._cache[1]
+        row = find_contact(self._scene.contacts, self._id1, self._id2)
+        self._cache = (key, row)
+        return row
+
+    def _row_or_raise(self) -> int:
+        row = self._row()
+        if row < 0:
+            raise RuntimeError(f"interaction ({self._id1}, {self._id2}) is no longer real")
+        return row
+
+    @property
+    def id1(self) -> int:
+        row = self._row()
+        return int(self._scene.contacts.con_i[row, I_ID1]) if row >= 0 else self._id1
+
+    @property
+    def id2(self) -> int:
+        row = self._row()
+        return int(self._scene.contacts.con_i[row, I_ID2]) if row >= 0 else self._id2
+
+    @property
+    def isReal(self) -> bool:
+        return self._row() >= 0
+
+    @property
+    def isActive(self) -> bool:
+        return True
+
+    @property
+    def geom(self):
+        row = self._row()
+        if row < 0:
+            return None
+        spec = functors("geom")[int(self._scene.contacts.con_i[row, I_GEOM])]
+        return GEOM_VIEWS[spec.produces](self)
+
+    @property
+    def phys(self):
+        row = self._row()
+        if row < 0:
+            return None
+        spec = functors("phys")[int(self._scene.contacts.con_i[row, I_PHYS])]
+        return PHYS_VIEWS[spec.produces](self)
+
+    @property
+    def cellDist(self):
+        row = self._row()
+        if row < 0:
+            return Vector3i(0, 0, 0)
+        return Vector3i(*self._scene.contacts.con_i[row, I_CELL:I_CELL + 3])
+
+    @property
+    def iterMadeReal(self) -> int:
+        row = self._row()
+        return int(self._scene.contacts.con_i[row, I_BORN]) if row >= 0 else -1
+
+    def __repr__(self):
+        return f"<Interaction instance at {hex(id(self))}, between bodies #{self.id1} and #{self.id2}>"
+
+
+class InteractionContainer:
+    """``O.interactions``: interactions by body pair; iteration yields the real ones."""
+
+    def __init__(self, omega):
+        self._omega = omega
+
+    @property
+    def _scene(self):
+        return self._omega._scene
+
+    def _ids(self, key) -> tuple[int, int]:
+        if not (isinstance(key, tuple) and len(key) == 2):
+            raise TypeError("O.interactions[id1, id2]: give two body ids")
+        n = self._scene.body_count
+        a, b = (int(k) for k in key)
+        for i in (a, b):
+            if not 0 <= i < n:
+                raise IndexError(f"Body id out of range: {i} (there are {n} bodies)")
+        return a, b
+
+    def __getitem__(self, key) -> Interaction:
+        a, b = self._ids(key)
+        C = self._scene.contacts
+        if find_contact(C, a, b) < 0 and find_pair(C, a, b) < 0:
+            raise ValueError(f"No such interaction: ({a}, {b})")
+        return Interaction(self._scene, a, b)
+
+    def has(self, id1: int, id2: int, onlyReal: bool = False) -> bool:
+        a, b = self._ids((id1, id2))
+        C = self._scene.contacts
+        return find_contact(C, a, b) >= 0 or (not onlyReal and find_pair(C, a, b) >= 0)
+
+    def _live_rows(self) -> np.ndarray:
+        C = self._scene.contacts
+        n = int(C.ctr[C_CONTACTS])
+        return np.nonzero(C.con_i[:n, I_FLAGS] & FLAG_ALIVE)[0]
+
+    def __iter__(self):
+        C = self._scene.contacts
+        for c in self._live_rows():
+            yield Interaction(self._scene, int(C.con_i[c, I_ID1]), int(C.con_i[c, I_ID2]))
+
+    def all(self, onlyReal: bool = False) -> list:
+        out = list(self)
+        if not onlyReal:
+            C = self._scene.contacts
+            n = int(C.ctr[C_PAIRS])
+            for p in np.nonzero(C.pair_con[:n] < 0)[0]:
+                out.append(Interaction(self._scene, int(C.pair_ids[p, 0]), int(C.pair_ids[p, 1])))
+        return out
+
+    def __len__(self) -> int:
+        C = self._scene.contacts
+        rows = self._live_rows()
+        return int(C.ctr[C_PAIRS]) + int(np.count_nonzero(C.con_i[rows, I_PAIR] < 0))
+
+    def countReal(self) -> int:
+        return int(self._live_rows().size)
+
+    def nth(self, n: int) -> Interaction:
+        return list(self)[n]
+
+    def withBody(self, id: int) -> list:
+        """Real interactions of body ``id``."""
+        return [i for i in self if id in (i._id1, i._id2)]
+
+    def withBodyAll(self, id: int) -> list:
+        """Real and potential interactions of body ``id``."""
+        return [i for i in self.all() if id in (i._id1, i._id2)]
+
+    def erase(self, id1: int, id2: int) -> bool:
+        """End the real interaction between two bodies (it may form again if they still touch)."""
+        a, b = self._ids((id1, id2))
+        C = self._scene.contacts
+        c = find_contact(C, a, b)
+        if c < 0:
+            return False
+        end_contact(C, c)
+        return True
+
+    def clear(self) -> None:
+        """Remove all interactions (the collider finds the potential ones again)."""
+        for i in list(self):
+            self.erase(i._id1, i._id2)
+        self._scene.contacts.ctr[C_PAIRS] = 0
+        self._scene.needs_collider()
+
+    def eraseNonReal(self) -> None:
+        self._scene.needs_collider()

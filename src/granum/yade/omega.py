@@ -1,0 +1,354 @@
+"""``O``: the YADE ``Omega`` object, the scripting entry to the current scene.
+
+``O.run(n)`` runs in a background thread as in YADE (``O.run(n, True)`` runs in the
+calling thread and returns when done); ``O.pause()`` stops after the current step,
+also when called from inside an engine. Assigning ``O.engines`` from inside a
+running engine takes effect at the next step. Errors raised inside a background run
+are re-raised by ``O.wait()``.
+"""
+
+from __future__ import annotations
+
+import builtins
+import copy
+import sys
+import threading
+
+import numpy as np
+
+from granum.core.arrays import ENERGY_NAMES
+from granum.core.scene import Scene
+from granum.engines.base import Engine
+from granum.engines.runner import Runner
+from granum.mathtypes import Vector3, as_vec3
+from granum.yade.bodies import BodyContainer
+from granum.yade.interactions import InteractionContainer
+from granum.yade.materials import MaterialContainer, default_material
+
+
+class EnergyTracker:
+    """``O.energy``: named energy terms (dict-like; a term appears once it was computed)."""
+
+    def __init__(self, omega):
+        self._omega = omega
+
+    def keys(self) -> list:
+        s = self._omega._scene
+        return [n for k, n in enumerate(ENERGY_NAMES) if s.energy_set[k]]
+
+    def __getitem__(self, name: str) -> float:
+        s = self._omega._scene
+        try:
+            k = ENERGY_NAMES.index(name)
+        except ValueError:
+            raise KeyError(f"no energy term {name!r}; known terms: {self.keys()}") from None
+        return float(s.energy[k])
+
+    def __contains__(self, name) -> bool:
+        return name in self.keys()
+
+    def __iter__(self):
+        return iter(self.keys())
+
+    def __len__(self):
+        return len(self.keys())
+
+    def items(self) -> list:
+        return [(k, self[k]) for k in self.keys()]
+
+    def total(self) -> float:
+        """Sum of all terms (constant when energy is conserved)."""
+        return sum(self[k] for k in self.keys())
+
+    def clear(self) -> None:
+        s = self._omega._scene
+        s.energy[:] = 0.0
+        s.energy_set[:] = 0
+
+
+class ForceContainer:
+    """``O.forces``: forces and torques of the last step, and permanent forces."""
+
+    def __init__(self, omega):
+        self._omega = omega
+
+    def _id(self, i: int) -> int:
+        n = self._omega._scene.body_count
+        if not 0 <= int(i) < n:
+            raise IndexError(f"Body id out of range: {i} (there are {n} bodies)")
+        return int(i)
+
+    def _get(self, column: str, i: int):
+        return Vector3(*getattr(self._omega._scene.bodies, column)[self._id(i)])
+
+    def f(self, id: int, sync: bool = False):
+        """Force on body ``id`` in the last step [N]."""
+        return self._get("force", id)
+
+    def t(self, id: int, sync: bool = False):
+        """Torque on body ``id`` in the last step [N m]."""
+        return self._get("torque", id)
+
+    m = t
+
+    def permF(self, id: int):
+        return self._get("perm_force", id)
+
+    def permT(self, id: int):
+        return self._get("perm_torque", id)
+
+    def addF(self, id: int, f, permanent: bool = False) -> None:
+        """Add a force [N] to body ``id`` for the current step (or permanently)."""
+        b = self._omega._scene.bodies
+        i = self._id(id)
+        v = as_vec3(f)
+        b.force[i] += v
+        if permanent:
+            b.perm_force[i] += v
+
+    def addT(self, id: int, t, permanent: bool = False) -> None:
+        """Add a torque [N m] to body ``id`` for the current step (or permanently)."""
+        b = self._omega._scene.bodies
+        i = self._id(id)
+        v = as_vec3(t)
+        b.torque[i] += v
+        if permanent:
+            b.perm_torque[i] += v
+
+    def setPermF(self, id: int, f) -> None:
+        self._omega._scene.bodies.perm_force[self._id(id)] = as_vec3(f)
+
+    def setPermT(self, id: int, t) -> None:
+        self._omega._scene.bodies.perm_torque[self._id(id)] = as_vec3(t)
+
+    def reset(self, resetAll: bool = True) -> None:
+        b = self._omega._scene.bodies
+        b.force[:] = 0.0
+        b.torque[:] = 0.0
+        if resetAll:
+            b.perm_force[:] = 0.0
+            b.perm_torque[:] = 0.0
+
+
+class Omega:
+    """The YADE ``Omega`` object (``O``)."""
+
+    def __init__(self):
+        self._snapshots: dict = {}
+        self._thread: threading.Thread | None = None
+        self._error: BaseException | None = None
+        self._stop = False
+        self._running = False
+        self._namespace: dict | None = None
+        self.bodies = BodyContainer(self)
+        self.interactions = InteractionContainer(self)
+        self.forces = ForceContainer(self)
+        self.energy = EnergyTracker(self)
+        self.timingEnabled = False
+        self._new_scene(Scene(), MaterialContainer())
+
+    def _new_scene(self, scene: Scene, materials: MaterialContainer) -> None:
+        self._scene = scene
+        self.materials = materials
+        self._runner = Runner(scene, self)
+        self._bind_labels(scene.engines)
+
+    # ---- namespace of Python commands --------------------------------------------------
+    def namespace(self) -> dict:
+        """Globals in which PyRunner commands run: the script's, else ``__main__``'s."""
+        if self._namespace is not None:
+            return self._namespace
+        return sys.modules["__main__"].__dict__
+
+    # ---- clock ---------------------------------------------------------------------------
+    @property
+    def iter(self) -> int:
+        return self._scene.iter
+
+    @property
+    def time(self) -> float:
+        return self._scene.time
+
+    @property
+    def dt(self) -> float:
+        return self._scene.dt
+
+    @dt.setter
+    def dt(self, value: float) -> None:
+        self._scene.dt = value
+
+    @property
+    def stopAtIter(self) -> int:
+        """Step at which a run stops (ignored when not ahead of ``O.iter``)."""
+        return self._scene.stop_at_iter
+
+    @stopAtIter.setter
+    def stopAtIter(self, value: int) -> None:
+        self._scene.stop_at_iter = int(value)
+
+    @property
+    def stopAtTime(self) -> float:
+        """Simulated time at which a run stops (ignored when not ahead of ``O.time``)."""
+        return self._scene.stop_at_time
+
+    @stopAtTime.setter
+    def stopAtTime(self, value: float) -> None:
+        self._scene.stop_at_time = float(value)
+
+    @property
+    def trackEnergy(self) -> bool:
+        return self._scene.track_energy
+
+    @trackEnergy.setter
+    def trackEnergy(self, on: bool) -> None:
+        self._scene.track_energy = on
+
+    @property
+    def periodic(self) -> bool:
+        return self._scene.periodic
+
+    @periodic.setter
+    def periodic(self, on: bool) -> None:
+        self._scene.periodic = on
+
+    @property
+    def tags(self) -> dict:
+        return self._scene.tags
+
+    @property
+    def numThreads(self) -> int:
+        import numba
+
+        return numba.get_num_threads()
+
+    # ---- engines -------------------------------------------------------------------------
+    @property
+    def engines(self) -> list:
+        return list(self._scene.engines)
+
+    @engines.setter
+    def engines(self, engines) -> None:
+        engines = list(engines)
+        for e in engines:
+            if not isinstance(e, Engine):
+                raise TypeError(f"O.engines: expected engines, got {e!r}")
+        self._scene.engines = engines
+        self._bind_labels(engines)
+
+    def _bind_labels(self, engines) -> None:
+        """Make labelled engines and functors global names, as YADE does."""
+        for e in engines:
+            for obj in [e] + e.functors():
+                if obj.label:
+                    if not obj.label.isidentifier():
+                        raise ValueError(f"label {obj.label!r} is not a valid Python identifier")
+                    setattr(builtins, obj.label, obj)
+
+    # ---- running -------------------------------------------------------------------------
+    @property
+    def running(self) -> bool:
+        return self._running
+
+    def _loop(self) -> None:
+        scene = self._scene
+        try:
+            while not self._stop:
+                target = self.stopAtIter
+                limit = target - scene.iter if target > scene.iter else 1 << 62
+                stop_time = self.stopAtTime if self.stopAtTime > scene.time else np.inf
+                self._runner.advance(limit, stop_time)
+                if scene.iter == target or (stop_time < np.inf and scene.time >= stop_time):
+                    break
+        finally:
+            self._running = False
+            self._stop = False
+
+    def _background(self) -> None:
+        try:
+            self._loop()
+        except BaseException as e:  # re-raised by O.wait()
+            self._error = e
+            import traceback
+
+            traceback.print_exc()
+
+    def run(self, nSteps: int = -1, wait: bool = False) -> None:
+        """Run ``nSteps`` steps (all if negative) in the background; with ``wait`` block until done."""
+        if self._running:
+            return
+        if nSteps > 0:
+            self.stopAtIter = self.iter + int(nSteps)
+        self._error = None
+        self._stop = False
+        self._running = True
+        if wait:
+            try:
+                self._loop()
+            except KeyboardInterrupt:
+                raise
+            return
+        self._thread = threading.Thread(target=self._background, name="granum-run", daemon=True)
+        self._thread.start()
+
+    def pause(self) -> None:
+        """Stop after the current step (also from inside an engine)."""
+        if self._running:
+            self._stop = True
+
+    def wait(self) -> None:
+        """Block until the background run stops; re-raise its error, if any."""
+        t = self._thread
+        if t is not None and t is not threading.current_thread():
+            t.join()
+        if self._error is not None:
+            e, self._error = self._error, None
+            raise e
+
+    def step(self) -> None:
+        """Run exactly one step in the calling thread."""
+        if self._running and self._thread is not threading.current_thread():
+            raise RuntimeError("O.step(): the simulation is running; O.pause() and O.wait() first")
+        self._running = True
+        try:
+            self._runner.advance(1)
+        finally:
+            self._running = False
+
+    # ---- scenes --------------------------------------------------------------------------
+    def reset(self) -> None:
+        """Start a new empty scene (bodies, interactions, engines, materials, clock)."""
+        self._stop_and_wait()
+        self._new_scene(Scene(), MaterialContainer())
+
+    def _stop_and_wait(self) -> None:
+        if self._running and self._thread is not threading.current_thread():
+            self.pause()
+            self._thread.join()
+
+    def saveTmp(self, mark: str = "") -> None:
+        """Keep a copy of the whole scene in memory under ``mark``."""
+        self._snapshots[mark] = copy.deepcopy((self._scene, self.materials))
+
+    def loadTmp(self, mark: str = "") -> None:
+        """Replace the scene by the copy saved with ``saveTmp(mark)``."""
+        if mark not in self._snapshots:
+            raise RuntimeError(f"O.loadTmp: no scene saved under mark {mark!r} (use O.saveTmp first)")
+        self._stop_and_wait()
+        scene, materials = copy.deepcopy(self._snapshots[mark])
+        self._new_scene(scene, materials)
+
+    def lsTmp(self) -> list:
+        return list(self._snapshots)
+
+    def default_material(self):
+        """The material of bodies created with ``material=-1``: the last in O.materials,
+        or YADE's default material, appended to O.materials when there is none."""
+        if len(self.materials) == 0:
+            self.materials.append(default_material())
+        return self.materials[len(self.materials) - 1]
+
+    def exitNoBacktrace(self, status: int = 0) -> None:
+        sys.exit(status)
+
+
+O = Omega()

@@ -1,0 +1,1 @@
+"""``yade.params``: parameter namespaces of a script (``yade.params.table``)."""

@@ -1,0 +1,1 @@
+"""``yade.params.table``: parameters declared by ``readParamsFromTable`` (filled at run time)."""

@@ -1,0 +1,350 @@
+"""YADE's ``yade.utils``: body factories and global measures of the scene.
+
+The factories (:func:`sphere`, :func:`facet`, :func:`wall`, :func:`box`) return a
+detached :class:`~granum.yade.bodies.Body` to be appended to ``O.bodies``. The
+measures are vectorised NumPy reductions over the storage (no per-body Python).
+"""
+
+from __future__ import annotations
+
+import math
+import random
+import warnings
+
+import numpy as np
+
+from granum.core.bodies import DOF_ALL, ShapeKind
+from granum.core.contacts import (
+    C_CONTACTS,
+    C_STATUS,
+    CONTACTS,
+    F_FN,
+    F_FS,
+    F_TANPHI,
+    FLAG_ALIVE,
+    I_FLAGS,
+    I_ID1,
+    I_ID2,
+)
+from granum.mathtypes import Quaternion, Vector3, as_quat_wxyz, as_vec3
+from granum.yade.bodies import Body, Box, Facet, Sphere, Wall
+from granum.yade.materials import Material, default_material
+from granum.yade.omega import O
+
+__all__ = [
+    "sphere", "facet", "wall", "box", "aabbWalls", "defaultMaterial", "randomColor", "PWaveTimeStep",
+    "unbalancedForce", "kineticEnergy", "sumForces", "getSpheresVolume", "getSpheresMass", "aabbExtrema",
+    "avgNumInteractions", "porosity", "createInteraction", "scalarOnColorScale", "setContactFriction",
+]
+
+_rng = random.Random()
+
+
+def randomColor():
+    """A random colour, RGB components uniform in [0, 1)."""
+    return Vector3(_rng.random(), _rng.random(), _rng.random())
+
+
+def defaultMaterial():
+    """YADE's default material: FrictMat(density=1e3, young=1e7, poisson=.3, frictionAngle=.5)."""
+    return default_material()
+
+
+def _material(material):
+    """Resolve YADE's ways of naming a material: -1 (last defined), id, label, object, callable."""
+    if isinstance(material, Material):
+        return material
+    if callable(material):
+        return _material(material())
+    if isinstance(material, str):
+        return O.materials[material]
+    if isinstance(material, int | np.integer):
+        return O.default_material() if material < 0 else O.materials[int(material)]
+    raise TypeError(f"material must be a Material, a material id, a label or a callable, got {material!r}")
+
+
+def _body(shape, center, material, fixed, dynamic, mask, orientation=None):
+    b = Body(shape=shape, material=_material(material), mask=mask)
+    st = b.state
+    st.pos = center
+    st.refPos = center
+    if orientation is not None:
+        st.ori = orientation
+        st.refOri = orientation
+    if dynamic is not None:
+        fixed = not dynamic
+    if fixed:
+        st.blockedDOFs = "xyzXYZ"
+    return b
+
+
+def sphere(center, radius, dynamic=None, fixed=False, wire=False, color=None, highlight=False,
+           material=-1, mask=1):
+    """A sphere body: mass rho 4/3 pi r^3, inertia 2/5 m r^2 on all axes.
+
+    ``fixed`` (or ``dynamic=False``) blocks all six degrees of freedom; ``color``
+    None picks a random colour; ``material`` is a Material, an id or a label in
+    O.materials, a callable returning a Material, or -1 for the last defined one.
+    """
+    shape = Sphere(radius=radius, color=randomColor() if color is None else color, wire=wire, highlight=highlight)
+    b = _body(shape, center, material, fixed, dynamic, mask)
+    r = shape.radius
+    m = b.material.density * 4.0 / 3.0 * math.pi * r ** 3
+    b.state.mass = m
+    b.state.inertia = (0.4 * m * r * r,) * 3
+    return b
+
+
+def facet(vertices, dynamic=None, fixed=True, wire=True, color=None, highlight=False, noBound=False,
+          material=-1, mask=1, chain=-1):
+    """A triangular facet; the body sits at the centre of the inscribed circle (massless, fixed)."""
+    v = np.array([as_vec3(x) for x in vertices]) if len(vertices) == 3 else None
+    if v is None:
+        raise ValueError("facet: give exactly three vertices")
+    edges = np.array([np.linalg.norm(v[1] - v[2]), np.linalg.norm(v[2] - v[0]), np.linalg.norm(v[0] - v[1])])
+    if not edges.sum() > 0:
+        raise ValueError("facet: the three vertices coincide")
+    center = (edges[:, None] * v).sum(axis=0) / edges.sum()
+    shape = Facet(vertices=list(v - center), color=randomColor() if color is None else color, wire=wire,
+                  highlight=highlight)
+    return _body(shape, center, material, fixed, dynamic, mask)
+
+
+def wall(position, axis, sense=0, color=None, material=-1, mask=1):
+    """An infinite plane normal to ``axis`` through ``position`` (a coordinate or a point); fixed."""
+    if axis not in (0, 1, 2):
+        raise ValueError(f"wall: axis must be 0, 1 or 2, got {axis!r}")
+    if isinstance(position, int | float | np.floating | np.integer):
+        center = np.zeros(3)
+        center[axis] = float(position)
+    else:
+        center = as_vec3(position)
+    shape = Wall(axis=axis, sense=sense, color=randomColor() if color is None else color)
+    return _body(shape, center, material, True, None, mask)
+
+
+def box(center, extents, orientation=None, dynamic=None, fixed=False, wire=False, color=None, highlight=False,
+        material=-1, mask=1):
+    """A box with half-sizes ``extents``: mass 8 rho e0 e1 e2, inertia m/3 (e1^2+e2^2, ...)."""
+    shape = Box(extents=extents, color=randomColor() if color is None else color, wire=wire, highlight=highlight)
+    ori = Quaternion(1, 0, 0, 0) if orientation is None else Quaternion(*_wxyz(orientation))
+    b = _body(shape, center, material, fixed, dynamic, mask, ori)
+    e = np.asarray(shape.extents._a)
+    m = b.material.density * 8.0 * e.prod()
+    b.state.mass = m
+    e2 = e * e
+    b.state.inertia = (m / 3 * (e2[1] + e2[2]), m / 3 * (e2[0] + e2[2]), m / 3 * (e2[0] + e2[1]))
+    b.aspherical = True
+    return b
+
+
+def _wxyz(q):
+    return tuple(as_quat_wxyz(q))
+
+
+def aabbWalls(extrema=None, thickness=0.0, oversizeFactor=1.5, **kw):
+    """Six fixed wire boxes enclosing ``extrema`` (default: the spheres' bounding box).
+
+    Returned in the order -x, +x, -y, +y, -z, +z; each is ``thickness`` thick, outside
+    the box, and ``oversizeFactor`` times as wide as the box in the other directions.
+    """
+    lo, hi = (np.asarray(as_vec3(x)) for x in (extrema or aabbExtrema()))
+    center = 0.5 * (lo + hi)
+    half = 0.5 * (hi - lo)
+    kw.setdefault("fixed", True)
+    kw.setdefault("wire", True)
+    walls = []
+    for axis in range(3):
+        for side, face in ((-1, lo[axis]), (1, hi[axis])):
+            c = center.copy()
+            c[axis] = face + side * 0.5 * thickness
+            e = oversizeFactor * half
+            e[axis] = 0.5 * thickness
+            walls.append(box(tuple(c), tuple(e), **kw))
+    return walls
+
+
+# ---- global measures ------------------------------------------------------------------
+
+def _scene():
+    return O._scene
+
+
+def _spheres(mask: int = -1):
+    """Ids and radii of the live spheres whose mask shares a bit with ``mask``."""
+    s = _scene()
+    b = s.bodies
+    n = b.count
+    sel = b.alive[:n] & (b.shape_kind[:n] == ShapeKind.SPHERE)
+    if mask != -1:
+        sel &= (b.mask[:n] & mask) != 0
+    ids = np.nonzero(sel)[0]
+    return ids, s.shapes[ShapeKind.SPHERE].radius[b.shape_row[ids]]
+
+
+def PWaveTimeStep():
+    """Critical time step of the P-wave: min over spheres of r sqrt(rho / E) [s] (YADE (3.5,34))."""
+    s = _scene()
+    ids, r = _spheres()
+    if ids.size == 0:
+        warnings.warn("PWaveTimeStep: no spheres in the simulation", stacklevel=2)
+        return math.inf
+    kind, mat = s.material_arrays()
+    from granum.physics.materials import M_DENSITY, M_YOUNG
+
+    rows = s.bodies.material[ids]
+    young = mat[rows, M_YOUNG]
+    vol = 4.0 / 3.0 * math.pi * r ** 3
+    mass = s.bodies.mass[ids]
+    rho = np.where(mass > 0, mass / vol, mat[rows, M_DENSITY])
+    ok = young > 0
+    return float(np.min(r[ok] * np.sqrt(rho[ok] / young[ok])))
+
+
+def _live_contacts():
+    C = _scene().contacts
+    n = int(C.ctr[C_CONTACTS])
+    return C, np.nonzero(C.con_i[:n, I_FLAGS] & FLAG_ALIVE)[0]
+
+
+def _gravity():
+    from granum.engines.pipeline import NewtonIntegrator
+
+    for e in _scene().engines:
+        if isinstance(e, NewtonIntegrator) and not e.dead:
+            return np.asarray(e.gravity._a)
+    return np.zeros(3)
+
+
+def unbalancedForce(useMaxForce=False):
+    """Mean (or maximum) resultant force on dynamic bodies over the mean contact force.
+
+    The resultant includes gravity from NewtonIntegrator; tends to 0 at equilibrium.
+    NaN when there is no contact.
+    """
+    s = _scene()
+    b = s.bodies
+    n = b.count
+    dyn = np.nonzero(b.alive[:n] & (b.blocked[:n] != DOF_ALL) & (b.clump_id[:n] < 0))[0]
+    C, rows = _live_contacts()
+    if rows.size == 0 or dyn.size == 0:
+        return math.nan
+    res = np.linalg.norm(b.force[dyn] + b.mass[dyn, None] * _gravity()[None, :], axis=1)
+    num = res.max() if useMaxForce else res.mean()
+    f = C.con_f[rows, F_FN:F_FN + 3] + C.con_f[rows, F_FS:F_FS + 3]
+    return float(num / np.linalg.norm(f, axis=1).mean())
+
+
+def kineticEnergy(findMaxId=False):
+    """Sum of 1/2 m v^2 + 1/2 w.Iw over dynamic bodies [J] (with findMaxId: (E, id of largest))."""
+    s = _scene()
+    b = s.bodies
+    n = b.count
+    sel = np.nonzero(b.alive[:n] & (b.blocked[:n] != DOF_ALL))[0]
+    if sel.size == 0:
+        return (0.0, -1) if findMaxId else 0.0
+    e = 0.5 * b.mass[sel] * (b.vel[sel] ** 2).sum(axis=1)
+    w = b.ang_vel[sel]
+    q = b.ori[sel]
+    # angular velocity in the principal (local) frame: rotate by the conjugate of ori
+    u = -q[:, 1:]
+    t = 2.0 * np.cross(u, w)
+    wl = w + q[:, :1] * t + np.cross(u, t)
+    e += 0.5 * (b.inertia[sel] * wl ** 2).sum(axis=1)
+    if findMaxId:
+        return float(e.sum()), int(sel[np.argmax(e)])
+    return float(e.sum())
+
+
+def sumForces(ids, direction):
+    """Sum of the forces on bodies ``ids`` projected on ``direction`` [N]."""
+    d = as_vec3(direction)
+    ids = np.asarray(list(ids), dtype=np.int64)
+    return float((_scene().bodies.force[ids] @ d).sum())
+
+
+def getSpheresVolume(mask=-1):
+    """Total volume of the spheres [m^3]."""
+    _, r = _spheres(mask)
+    return float((4.0 / 3.0 * math.pi * r ** 3).sum())
+
+
+def getSpheresMass(mask=-1):
+    """Total mass of the spheres [kg]."""
+    ids, _ = _spheres(mask)
+    return float(_scene().bodies.mass[ids].sum())
+
+
+def aabbExtrema(cutoff=0.0, centers=False):
+    """Corners ``(min, max)`` of the box around all spheres (or their centres) [m]."""
+    ids, r = _spheres()
+    if ids.size == 0:
+        return Vector3(math.inf, math.inf, math.inf), Vector3(-math.inf, -math.inf, -math.inf)
+    p = _scene().bodies.pos[ids]
+    rr = 0.0 if centers else r[:, None]
+    lo, hi = (p - rr).min(axis=0), (p + rr).max(axis=0)
+    d = hi - lo
+    lo, hi = lo + cutoff * d, hi - cutoff * d
+    return Vector3(*lo), Vector3(*hi)
+
+
+def avgNumInteractions(cutoff=0.0, skipFree=False, considerClumps=False):
+    """Coordination number Z = 2C/N; with ``skipFree`` (2C - N1)/(N - N0 - N1) (Thornton 2000)."""
+    s = _scene()
+    b = s.bodies
+    n = b.count
+    C, rows = _live_contacts()
+    alive = np.nonzero(b.alive[:n])[0]
+    if not skipFree:
+        return 2.0 * rows.size / max(alive.size, 1)
+    count = np.bincount(np.concatenate([C.con_i[rows, I_ID1], C.con_i[rows, I_ID2]]), minlength=n)[alive]
+    n0, n1 = np.count_nonzero(count == 0), np.count_nonzero(count == 1)
+    return (2.0 * rows.size - n1) / (alive.size - n0 - n1)
+
+
+def porosity(volume=-1):
+    """(V - V_spheres)/V, with V the spheres' bounding box volume unless given [-]."""
+    if volume <= 0:
+        lo, hi = aabbExtrema()
+        volume = float(np.prod(np.asarray(hi._a) - np.asarray(lo._a)))
+    return (volume - getSpheresVolume()) / volume
+
+
+def scalarOnColorScale(x, xmin=0.0, xmax=1.0):
+    """Colour of ``x`` on a blue-green-red scale between ``xmin`` and ``xmax``."""
+    t = 0.0 if xmax == xmin else min(max((x - xmin) / (xmax - xmin), 0.0), 1.0)
+    return Vector3(min(max(2 * t - 0.5, 0), 1) if t > 0.25 else 0.0, 1.0 - abs(2 * t - 1.0), max(1.0 - 2 * t, 0.0))
+
+
+def setContactFriction(angleRad):
+    """Set the friction angle of all materials and of the existing contacts [rad]."""
+    for m in O.materials:
+        if hasattr(m, "frictionAngle"):
+            m.frictionAngle = angleRad
+    C, rows = _live_contacts()
+    C.con_f[rows, F_TANPHI] = math.tan(angleRad)
+
+
+def createInteraction(id1, id2):
+    """Make the interaction of two bodies real now, whatever their distance (YADE semantics).
+
+    The geometry and physics come from the functors of the InteractionLoop in O.engines.
+    """
+    from granum.engines.pipeline import InteractionLoop
+    from granum.kernels.interaction import create_contact_now
+    from granum.yade.interactions import Interaction
+
+    loops = [e for e in O.engines if isinstance(e, InteractionLoop)]
+    if not loops:
+        raise RuntimeError("createInteraction: no InteractionLoop in O.engines")
+    s = _scene()
+    for i in (id1, id2):
+        if not (0 <= i < s.body_count and s.bodies.alive[i]):
+            raise IndexError(f"createInteraction: no body with id {i}")
+    S = s.arrays()
+    C = CONTACTS.to_record(s.contacts)
+    create_contact_now(S, C, int(id1), int(id2), loops[0].params(s, O.engines))
+    s.contacts = CONTACTS.from_record(C)
+    if s.contacts.ctr[C_STATUS]:
+        O._runner.raise_status()
+    return Interaction(s, id1, id2)
