@@ -59,7 +59,27 @@ F_FN = 17          # 17..19 normal force on body 2 [N]
 F_FS = 20          # 20..22 shear force on body 2 [N]
 F_E_ELAST = 23     # elastic energy stored in the contact [J]
 F_E_DISSIP = 24    # energy dissipated by friction during this step [J]
-NF = 25
+NF_CORE = 25
+
+#: Extra float columns declared by contact laws for their history, name -> (offset, width).
+HISTORY_COLUMNS: dict[str, tuple[int, int]] = {}
+
+
+def register_history(name: str, width: int) -> int:
+    """Declare a per-contact history column of a law; return its offset in ``con_f``.
+
+    Must be called at import time of the law's module, before any scene exists.
+    """
+    if name in HISTORY_COLUMNS:
+        raise ValueError(f"contact history column {name!r} is declared twice")
+    offset = NF_CORE + sum(w for _, w in HISTORY_COLUMNS.values())
+    HISTORY_COLUMNS[name] = (offset, width)
+    return offset
+
+
+def nf() -> int:
+    """Number of float columns of a contact: the core ones and the laws' history."""
+    return NF_CORE + sum(w for _, w in HISTORY_COLUMNS.values())
 
 FLAG_ALIVE = 1     # the row holds a live contact
 FLAG_NEW = 2       # physics constants not computed yet
@@ -101,7 +121,7 @@ def new_contact_arrays(n_bodies: int, pair_capacity: int = 64, contact_capacity:
         pair_con=np.full(pair_capacity, -1, np.int32),
         pair_hit=np.zeros(pair_capacity, np.uint8),
         con_i=con_i,
-        con_f=np.zeros((contact_capacity, NF), np.float64),
+        con_f=np.zeros((contact_capacity, nf()), np.float64),
         csr_start=np.zeros(n_bodies + 1, np.int32),
         csr_con=np.zeros(2 * contact_capacity, np.int32),
         ctr=ctr,

@@ -72,7 +72,9 @@ class PeriodicEngine(GlobalEngine):
     It runs in a step where any of the enabled periods has elapsed since its last
     run (``iterPeriod`` steps, ``virtPeriod`` seconds of simulated time or
     ``realPeriod`` seconds of wall-clock time), at most ``nDo`` times (unlimited if
-    negative). With ``initRun`` it also runs the first time it is reached.
+    negative), never before step ``firstIterRun``. The first time it is reached it
+    only sets its reference point, unless ``initRun``; that first call counts towards
+    ``nDo`` (YADE's behaviour).
     """
 
     _attrs = {
@@ -95,24 +97,33 @@ class PeriodicEngine(GlobalEngine):
 
     def due(self, scene) -> bool:
         it = scene.iter
-        if it < self.firstIterRun or 0 <= self.nDo <= self.nDone:
+        if it < self.firstIterRun:
             return False
         now = time.time()
-        run = (self.initRun and self.nDone == 0) or \
-            (self.virtPeriod > 0 and scene.time - self.virtLast >= self.virtPeriod) or \
+        elapsed = (self.virtPeriod > 0 and scene.time - self.virtLast >= self.virtPeriod) or \
             (self.realPeriod > 0 and now - self.realLast >= self.realPeriod) or \
             (self.iterPeriod > 0 and it - self.iterLast >= self.iterPeriod)
-        if run:
-            self.iterLast, self.virtLast, self.realLast = it, scene.time, now
-            self.nDone += 1
+        if (self.nDo < 0 or self.nDone < self.nDo) and elapsed:
+            run = True
+        elif self.nDone == 0:
+            # the first call only sets the reference point (and counts towards nDo), as in YADE
+            run = self.initRun
+        else:
+            return False
+        self.iterLast, self.virtLast, self.realLast = it, scene.time, now
+        self.nDone += 1
         return run
 
     def next_due_iter(self, scene) -> int | None:
-        """Earliest step at which the step-count criterion alone makes the engine due."""
+        """Earliest step at which the engine must be called because of its step counters.
+
+        That is the first call (which sets its reference point), or the step at which
+        ``iterPeriod`` elapses; None if only time periods can make it due.
+        """
+        if self.nDone == 0:
+            return max(scene.iter, self.firstIterRun)
         if 0 <= self.nDo <= self.nDone:
             return None
-        if self.initRun and self.nDone == 0:
-            return max(scene.iter, self.firstIterRun)
         if self.iterPeriod > 0:
             return max(self.iterLast + self.iterPeriod, self.firstIterRun)
         return None

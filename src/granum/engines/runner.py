@@ -121,7 +121,7 @@ class Runner:
         self.check_scene()
         m = self.steps_allowed(plan, limit)
         if m > 0:
-            virt = [e for e in plan.python if e.virtPeriod > 0 and not 0 <= e.nDo <= e.nDone]
+            virt = [e for e in plan.python if e.virtPeriod > 0 and e.nDone > 0 and not 0 <= e.nDo <= e.nDone]
             virt_last = np.array([e.virtLast for e in virt])
             virt_period = np.array([e.virtPeriod for e in virt])
             S = scene.arrays()

@@ -46,7 +46,6 @@ from granum.core.contacts import (
     I_LAW,
     I_PAIR,
     I_PHYS,
-    NF,
     NI,
     STATUS_NO_GEOM,
     STATUS_NO_LAW,
@@ -90,7 +89,7 @@ def grow_contacts(C, need):
     """Make room for at least ``need`` contacts (rows copied, capacity doubled)."""
     cap = max(need, 2 * C.con_i.shape[0], 64)
     con_i = np.zeros((cap, NI), np.int32)
-    con_f = np.zeros((cap, NF), np.float64)
+    con_f = np.zeros((cap, C.con_f.shape[1]), np.float64)
     n = C.ctr[C_CONTACTS]
     con_i[:n] = C.con_i[:n]
     con_f[:n] = C.con_f[:n]

@@ -11,5 +11,6 @@ from granum.physics import (  # noqa: F401  (imported for their registrations)
     frict,
     materials,
     sphere,
+    viscel,
     wall,
 )

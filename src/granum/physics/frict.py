@@ -28,7 +28,13 @@ from granum.core.contacts import (
 )
 from granum.physics import materials, registry
 from granum.physics.registry import Functor, MaterialKind, Param
-from granum.physics.scgeom import contact_shift, scgeom_incident_vel, scgeom_rotate_shear, tangential
+from granum.physics.scgeom import (
+    contact_shift,
+    scgeom_incident_vel,
+    scgeom_ratchet,
+    scgeom_rotate_shear,
+    tangential,
+)
 from granum.physics.vec import dot, norm, scale, sub
 
 registry.register_material(MaterialKind(
@@ -113,7 +119,8 @@ def law_cundall_strack(c, id1, id2, S, C, prm):
     fn = scale(n, kn * pen)
     fs = scgeom_rotate_shear(c, id1, id2, S, C, (f[c, F_FS], f[c, F_FS + 1], f[c, F_FS + 2]))
     shift, shift_vel = contact_shift(c, S, C)
-    du = scale(tangential(scgeom_incident_vel(c, id1, id2, S, C, shift, shift_vel), n), S.scal[S_DT])
+    v = scgeom_incident_vel(c, id1, id2, S, C, shift, shift_vel, scgeom_ratchet(c, C))
+    du = scale(tangential(v, n), S.scal[S_DT])
     fs = sub(fs, scale(du, ks))
     max_fs2 = dot(fn, fn) * f[c, F_TANPHI] * f[c, F_TANPHI]
     fs2 = dot(fs, fs)

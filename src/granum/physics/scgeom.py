@@ -102,10 +102,10 @@ def contact_shift(c, S, C):
 
 
 @jit
-def scgeom_incident_vel(c, id1, id2, S, C, shift, shift_vel):
+def scgeom_incident_vel(c, id1, id2, S, C, shift, shift_vel, ratchet):
     """Velocity of body 2 relative to body 1 at the contact point [m/s].
 
-    With the contact's ratcheting flag (YADE's ``avoidGranularRatcheting``) the lever arms are
+    With ``ratchet`` (YADE's ``avoidGranularRatcheting`` of the geometry) the lever arms are
     the reference radii and the centre velocities are scaled by
     alpha = (r1 + r2) / (r1 + r2 - delta), which removes the spurious ratcheting of
     cyclic loading; otherwise the arms are the vectors from the centres to C.
@@ -116,7 +116,7 @@ def scgeom_incident_vel(c, id1, id2, S, C, shift, shift_vel):
     v2 = add(load3(S.vel, id2), shift_vel)
     w1 = load3(S.ang_vel, id1)
     w2 = load3(S.ang_vel, id2)
-    if C.con_i[c, I_FLAGS] & FLAG_RATCHET:
+    if ratchet:
         r1 = f[c, F_R1]
         r2 = f[c, F_R2]
         alpha = (r1 + r2) / (r1 + r2 - f[c, F_PEN])
@@ -125,6 +125,12 @@ def scgeom_incident_vel(c, id1, id2, S, C, shift, shift_vel):
     arm1 = sub(p, load3(S.pos, id1))
     arm2 = sub(p, add(load3(S.pos, id2), shift))
     return sub(add(v2, cross(w2, arm2)), add(v1, cross(w1, arm1)))
+
+
+@jit
+def scgeom_ratchet(c, C):
+    """Whether the geometry functor of contact ``c`` asked for the anti-ratcheting velocity."""
+    return C.con_i[c, I_FLAGS] & FLAG_RATCHET != 0
 
 
 @jit

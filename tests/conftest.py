@@ -1,0 +1,42 @@
+"""Shared fixtures: a fresh YADE-style scene for every test."""
+
+from __future__ import annotations
+
+import json
+import pathlib
+
+import pytest
+
+REFERENCE = pathlib.Path(__file__).parent / "reference" / "yade"
+
+
+@pytest.fixture
+def yade():
+    """The ``granum.yade`` namespace with an empty scene (``yade.O``)."""
+    import granum.yade as y
+
+    y.O.reset()
+    y.O._namespace = None
+    yield y
+    y.O.pause()
+    y.O.reset()
+
+
+def reference(topic: str) -> dict:
+    """Reference data produced by real YADE (see tests/reference/yade/README.md)."""
+    return json.loads((REFERENCE / f"{topic}.json").read_text())
+
+
+def frict_engines(y, gravity=(0, 0, 0), damping=0.0, bounds=None, geoms=None):
+    """The engine list of the tutorials: collider, frictional contacts, Newton."""
+    return [
+        y.ForceResetter(),
+        y.InsertionSortCollider(bounds or [y.Bo1_Sphere_Aabb(), y.Bo1_Facet_Aabb(), y.Bo1_Wall_Aabb(),
+                                           y.Bo1_Box_Aabb()]),
+        y.InteractionLoop(
+            geoms or [y.Ig2_Sphere_Sphere_ScGeom(), y.Ig2_Facet_Sphere_ScGeom(), y.Ig2_Wall_Sphere_ScGeom(),
+                      y.Ig2_Box_Sphere_ScGeom()],
+            [y.Ip2_FrictMat_FrictMat_FrictPhys()],
+            [y.Law2_ScGeom_FrictPhys_CundallStrack()]),
+        y.NewtonIntegrator(gravity=gravity, damping=damping),
+    ]
