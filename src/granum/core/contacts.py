@@ -84,6 +84,7 @@ def nf() -> int:
 FLAG_ALIVE = 1     # the row holds a live contact
 FLAG_NEW = 2       # physics constants not computed yet
 FLAG_RATCHET = 4   # shear laws use the anti-ratcheting relative velocity (ScGeom)
+FLAG_RADIAL_ARMS = 16  # torques use the lever arms (R_i - delta/2) n instead of C - x_i (YADE sphericalBodies)
 
 # ---- counters in ctr ---------------------------------------------------------------
 C_PAIRS = 0        # number of potential pairs

@@ -34,9 +34,14 @@ from granum.core.contacts import (
     F_E_ELAST,
     F_FN,
     F_FS,
+    F_NORMAL,
+    F_PEN,
     F_POINT,
+    F_R1,
+    F_R2,
     FLAG_ALIVE,
     FLAG_NEW,
+    FLAG_RADIAL_ARMS,
     I_BORN,
     I_CELL,
     I_FLAGS,
@@ -54,7 +59,7 @@ from granum.core.contacts import (
 from granum.kernels.collider import BLOCK
 from granum.kernels.dispatch import geom_call, law_call, phys_call
 from granum.physics.scgeom import contact_shift
-from granum.physics.vec import add, cross, load3, sub
+from granum.physics.vec import add, cross, load3, scale, sub
 
 FLAG_PHYS_SWAP = 8   # the physics functor is declared for (material 2, material 1)
 HIT_TOUCH = 1        # pair_hit: the pair touches and becomes a contact
@@ -208,11 +213,11 @@ def _update(S, C, geom_prm, phys_prm, law_prm, died):
                 phys_call(C.con_i[c, I_PHYS], c, id2, id1, S, C, phys_prm)
             else:
                 phys_call(C.con_i[c, I_PHYS], c, id1, id2, S, C, phys_prm)
-            flags &= ~FLAG_NEW
+            C.con_i[c, I_FLAGS] &= ~FLAG_NEW
+        # functors may set flags of their own (geometry, law): change only the bits owned here
         if not law_call(C.con_i[c, I_LAW], c, id1, id2, S, C, law_prm):
-            flags &= ~FLAG_ALIVE
+            C.con_i[c, I_FLAGS] &= ~FLAG_ALIVE
             died[c // BLOCK] = 1
-        C.con_i[c, I_FLAGS] = flags
 
 
 update, update_par = kernel(_update)
@@ -293,13 +298,20 @@ def _gather(S, C, nb):
         for k in range(a, b):
             c = C.csr_con[k]
             f = add(load3_row(C.con_f, c, F_FN), load3_row(C.con_f, c, F_FS))  # force on body 2
-            if C.con_i[c, I_ID2] == i:
+            second = C.con_i[c, I_ID2] == i
+            if C.con_i[c, I_FLAGS] & FLAG_RADIAL_ARMS:
+                # YADE's sphericalBodies: lever arm (R_i - delta/2) along the normal
+                half = 0.5 * C.con_f[c, F_PEN]
+                arm_len = half - C.con_f[c, F_R2] if second else C.con_f[c, F_R1] - half
+                arm = scale(load3_row(C.con_f, c, F_NORMAL), arm_len)
+            elif second:
                 shift, _ = contact_shift(c, S, C)
-                xi_c = add(xi, shift)
+                arm = sub(load3_row(C.con_f, c, F_POINT), add(xi, shift))
             else:
+                arm = sub(load3_row(C.con_f, c, F_POINT), xi)
+            if not second:
                 f = (-f[0], -f[1], -f[2])
-                xi_c = xi
-            t = cross(sub(load3_row(C.con_f, c, F_POINT), xi_c), f)
+            t = cross(arm, f)
             fx += f[0]
             fy += f[1]
             fz += f[2]

@@ -25,6 +25,8 @@ from granum.core.contacts import (
     F_R1,
     F_R2,
     F_TANPHI,
+    FLAG_RADIAL_ARMS,
+    I_FLAGS,
 )
 from granum.physics import materials, registry
 from granum.physics.registry import Functor, MaterialKind, Param
@@ -137,6 +139,8 @@ def law_cundall_strack(c, id1, id2, S, C, prm):
         elast += 0.5 * norm(fs) ** 2 / ks
     f[c, F_E_ELAST] = elast
     f[c, F_E_DISSIP] = dissip
+    if prm[1] != 0.0:   # sphericalBodies: YADE's radial lever arms for the torques
+        C.con_i[c, I_FLAGS] |= FLAG_RADIAL_ARMS
     return True
 
 
@@ -149,6 +153,7 @@ registry.register_functor(Functor(
     "Law2_ScGeom_FrictPhys_CundallStrack", "law", ("ScGeom", "FrictPhys"), None,
     f"{__name__}:law_cundall_strack",
     (Param("neverErase", False, "Keep contacts whose penetration became negative [-]"),
-     Param("sphericalBodies", True, "Accepted for compatibility; torques use the contact point [-]"),
+     Param("sphericalBodies", True,
+           "Torques with lever arms (R_i - delta/2) along the normal (YADE); False: from the contact point [-]"),
      Param("traceEnergy", False, "Accepted for compatibility; energies follow O.trackEnergy [-]")),
     law_cundall_strack.py_func.__doc__))
