@@ -11,6 +11,8 @@
 
 from __future__ import annotations
 
+import contextlib
+import fcntl
 import hashlib
 import os
 import pathlib
@@ -102,4 +104,35 @@ def kernel(fn):
     return jit(fn), jit(twin, parallel=os.environ.get("GRANUM_NOPAR") is None)
 
 
-__all__ = ["jit", "kernel", "njit", "prange", "PARALLEL_THRESHOLD", "CACHE_DIR", "SOURCE_HASH"]
+@contextlib.contextmanager
+def compile_lock():
+    """Hold the cache directory's lock (blocks while another process compiles into it).
+
+    Numba numbers the cached variants of a function per process; two processes
+    compiling the same function at once can pair an index entry of one with the code
+    of the other. Compiling under this lock serialises first runs; the waiting
+    processes then load the freshly cached code instead of compiling it again.
+    """
+    CACHE_DIR.mkdir(parents=True, exist_ok=True)
+    with open(CACHE_DIR / "compile.lock", "w") as fh:
+        fcntl.flock(fh, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(fh, fcntl.LOCK_UN)
+
+
+_warm: set[int] = set()
+
+
+def call(fn, *args):
+    """Call compiled ``fn`` from Python; its first call in this process holds :func:`compile_lock`."""
+    if id(fn) in _warm:
+        return fn(*args)
+    with compile_lock():
+        out = fn(*args)
+    _warm.add(id(fn))
+    return out
+
+
+__all__ = ["call", "compile_lock", "jit", "kernel", "njit", "prange", "PARALLEL_THRESHOLD", "CACHE_DIR", "SOURCE_HASH"]

@@ -17,6 +17,7 @@ from numba import types
 from numba.experimental import structref
 from numba.np import numpy_support
 
+from granum._jit import call
 from granum.kernels.codegen import load_module
 
 
@@ -69,11 +70,11 @@ class RecordSpec:
 
     def to_record(self, values) -> Record:
         """A record holding the arrays of the named tuple ``values``."""
-        return self._module.to_record(*values)
+        return call(self._module.to_record, *values)
 
     def from_record(self, record: Record):
         """The arrays of ``record`` as a named tuple."""
-        return self.tuple(*self._module.from_record(record))
+        return self.tuple(*call(self._module.from_record, record))
 
 
 SPECS: dict[str, RecordSpec] = {}

@@ -18,6 +18,7 @@ import time
 
 import numpy as np
 
+from granum._jit import call
 from granum.core.arrays import I_ITER, S_DT, S_TIME
 from granum.core.bodies import ShapeKind
 from granum.core.contacts import (
@@ -127,7 +128,8 @@ class Runner:
             S = scene.arrays()
             C = CONTACTS.to_record(scene.contacts)
             t0 = time.perf_counter()
-            done, why = plan.module.run_steps(m, S, C, self.params(plan), float(stop_time), virt_last, virt_period)
+            done, why = call(plan.module.run_steps, m, S, C, self.params(plan), float(stop_time), virt_last,
+                             virt_period)
             scene.contacts = CONTACTS.from_record(C)
             if done:
                 self._step_seconds = max((time.perf_counter() - t0) / done, 1e-9)
@@ -146,7 +148,7 @@ class Runner:
                 run = getattr(plan.module, f"run_segment_{item}")
                 S = scene.arrays()
                 C = CONTACTS.to_record(scene.contacts)
-                run(S, C, self.params(plan))
+                call(run, S, C, self.params(plan))
                 scene.contacts = CONTACTS.from_record(C)
                 if scene.contacts.ctr[C_STATUS]:
                     self.raise_status()

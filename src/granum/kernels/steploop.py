@@ -48,7 +48,7 @@ def render(segments: list[list[str]]) -> str:
         for j, ref in enumerate(segments[seg_index]):
             out.append(f"{indent}{alias[ref]}(S, C, PP[{first + j}])")
             out.append(f"{indent}if C.ctr[C_STATUS] != 0:")
-            out.append(f"{indent}    return {on_error}")
+            out.append(f"{indent}    return {on_error}".rstrip())
         return out
 
     body = ["", "", "@jit", "def run_steps(nmax, S, C, PP, stop_time, virt_last, virt_period):",

@@ -528,6 +528,8 @@ SHAPE_CLASSES = {ShapeKind.SPHERE: Sphere, ShapeKind.FACET: Facet, ShapeKind.WAL
 class BodyContainer:
     """``O.bodies``: bodies by id; appending copies a body into the scene's storage."""
 
+    __slots__ = ("_omega",)
+
     def __init__(self, omega):
         self._omega = omega
 

@@ -184,6 +184,8 @@ class Interaction:
 class InteractionContainer:
     """``O.interactions``: interactions by body pair; iteration yields the real ones."""
 
+    __slots__ = ("_omega",)
+
     def __init__(self, omega):
         self._omega = omega
 

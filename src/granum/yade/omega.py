@@ -29,6 +29,8 @@ from granum.yade.materials import MaterialContainer, default_material
 class EnergyTracker:
     """``O.energy``: named energy terms (dict-like; a term appears once it was computed)."""
 
+    __slots__ = ("_omega",)
+
     def __init__(self, omega):
         self._omega = omega
 
@@ -68,6 +70,8 @@ class EnergyTracker:
 
 class ForceContainer:
     """``O.forces``: forces and torques of the last step, and permanent forces."""
+
+    __slots__ = ("_omega",)
 
     def __init__(self, omega):
         self._omega = omega
@@ -146,6 +150,13 @@ class Omega:
         self.energy = EnergyTracker(self)
         self.timingEnabled = False
         self._new_scene(Scene(), MaterialContainer())
+        self._frozen = True
+
+    def __setattr__(self, name, value):
+        # no silent typos (O.dtt = ...): only existing attributes can be assigned
+        if getattr(self, "_frozen", False) and not hasattr(self, name):
+            raise AttributeError(f"Omega has no attribute {name!r}")
+        object.__setattr__(self, name, value)
 
     def _new_scene(self, scene: Scene, materials: MaterialContainer) -> None:
         self._scene = scene
@@ -155,10 +166,19 @@ class Omega:
 
     # ---- namespace of Python commands --------------------------------------------------
     def namespace(self) -> dict:
-        """Globals in which PyRunner commands run: the script's, else ``__main__``'s."""
-        if self._namespace is not None:
-            return self._namespace
-        return sys.modules["__main__"].__dict__
+        """Globals in which PyRunner commands run.
+
+        The script's (set by the launcher), else ``__main__``'s when it has the YADE
+        names (``from granum.yade import *``), else a private YADE namespace.
+        """
+        if self._namespace is None:
+            main = sys.modules["__main__"].__dict__
+            if "O" in main:
+                return main
+            import granum.yade
+
+            self._namespace = granum.yade.namespace()
+        return self._namespace
 
     # ---- clock ---------------------------------------------------------------------------
     @property

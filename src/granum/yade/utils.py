@@ -13,6 +13,7 @@ import warnings
 
 import numpy as np
 
+from granum._jit import call
 from granum.core.bodies import DOF_ALL, ShapeKind
 from granum.core.contacts import (
     C_CONTACTS,
@@ -343,7 +344,7 @@ def createInteraction(id1, id2):
             raise IndexError(f"createInteraction: no body with id {i}")
     S = s.arrays()
     C = CONTACTS.to_record(s.contacts)
-    create_contact_now(S, C, int(id1), int(id2), loops[0].params(s, O.engines))
+    call(create_contact_now, S, C, int(id1), int(id2), loops[0].params(s, O.engines))
     s.contacts = CONTACTS.from_record(C)
     if s.contacts.ctr[C_STATUS]:
         O._runner.raise_status()
