@@ -27,10 +27,13 @@ class Functor(Attributed):
         """The functor's numeric parameters in registry order (booleans as 0/1)."""
         out = []
         for p in self.spec.params:
-            if isinstance(p.default, bool | int | float):
-                out.append(float(getattr(self, p.name)))
-            elif getattr(self, p.name) is not None:
-                raise NotImplementedError(f"{type(self).__name__}.{p.name} other than None is not supported yet")
+            value = getattr(self, p.name)
+            if not p.supported or not isinstance(p.default, bool | int | float):
+                if value != p.default and value is not p.default:
+                    raise NotImplementedError(f"{type(self).__name__}.{p.name}={value!r} is not supported by granum "
+                                              f"yet (only the default {p.default!r})")
+                continue
+            out.append(float(value))
         return out
 
 

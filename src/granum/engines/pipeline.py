@@ -15,7 +15,7 @@ from granum.core.bodies import ShapeKind
 from granum.engines.base import GlobalEngine
 from granum.engines.functors import check_role, param_table
 from granum.kernels.dispatch import code_of, functors
-from granum.mathtypes import Vector3, as_vec3
+from granum.mathtypes import Matrix3, Vector3, as_vec3
 from granum.physics import registry
 
 NKINDS = len(ShapeKind)
@@ -57,6 +57,12 @@ class Dispatcher:
         return {f.spec.types: type(f).__name__ for f in self._functors}
 
 
+def _no_callbacks(owner, value):
+    if list(value):
+        raise NotImplementedError("InteractionLoop.callbacks are not supported by granum")
+    return []
+
+
 def _dispatcher(owner, value):
     if not isinstance(value, Dispatcher):
         raise TypeError(f"{type(owner).__name__}: expected a dispatcher, got {value!r}")
@@ -87,6 +93,12 @@ class InsertionSortCollider(GlobalEngine):
         "avoidSelfInteractionMask": Attr(0, "Bodies whose masks share these bits do not interact",
                                          to_int("avoidSelfInteractionMask")),
         "numReinit": Attr(0, "Number of full collider runs", readonly=True),
+        "numAction": Attr(0, "Number of times the pair list was rebuilt", readonly=True),
+        "fastestBodyMaxDist": Attr(0.0, "Accepted for compatibility", to_float("fastestBodyMaxDist")),
+        "doSort": Attr(False, "Accepted for compatibility", to_bool),
+        "keepListsShort": Attr(False, "Accepted for compatibility", to_bool),
+        "smartInsertErase": Attr(False, "Accepted for compatibility", to_bool),
+        "newton": Attr(None, "Accepted for compatibility"),
         "boundDispatcher": Attr(None, "The bound functors (BoundDispatcher)", _dispatcher),
     }
 
@@ -116,6 +128,9 @@ class InteractionLoop(GlobalEngine):
         "geomDispatcher": Attr(None, "The IGeom functors (IGeomDispatcher)", _dispatcher),
         "physDispatcher": Attr(None, "The IPhys functors (IPhysDispatcher)", _dispatcher),
         "lawDispatcher": Attr(None, "The law functors (LawDispatcher)", _dispatcher),
+        "callbacks": Attr([], "Interaction callbacks (not supported: must stay empty)", _no_callbacks),
+        "loopOnSortedInteractions": Attr(False, "Accepted for compatibility (granum's order is always fixed)",
+                                         to_bool),
     }
 
     def __init__(self, geoms=(), physs=(), laws=(), **kw):
@@ -192,6 +207,7 @@ class NewtonIntegrator(GlobalEngine):
         "kinSplit": Attr(False, "Accepted for compatibility", to_bool),
         "dampGravity": Attr(True, "Damping also acts on gravity (YADE's behaviour)", to_bool),
         "mask": Attr(-1, "Accepted for compatibility", to_int("mask")),
+        "prevVelGrad": Attr(Matrix3.Zero, "Velocity gradient of the periodic cell at the previous step [1/s]"),
     }
 
     def params(self, scene, engines) -> tuple:
@@ -205,6 +221,7 @@ class GravityEngine(GlobalEngine):
     _attrs = {
         "gravity": Attr(Vector3(0, 0, 0), "Gravitational acceleration [m/s^2]", to_vec3),
         "mask": Attr(0, "Only bodies sharing a bit with this mask (0: all)", to_int("mask")),
+        "warnOnce": Attr(True, "Accepted for compatibility", to_bool),
     }
 
     def params(self, scene, engines) -> tuple:

@@ -22,6 +22,7 @@ from granum._jit import call
 from granum.core.arrays import I_ITER, S_DT, S_TIME
 from granum.core.bodies import ShapeKind
 from granum.core.contacts import (
+    C_COLLIDER_RUNS,
     C_ERR_A,
     C_ERR_B,
     C_STATUS,
@@ -131,6 +132,7 @@ class Runner:
             done, why = call(plan.module.run_steps, m, S, C, self.params(plan), float(stop_time), virt_last,
                              virt_period)
             scene.contacts = CONTACTS.from_record(C)
+            self.sync_counters(plan)
             if done:
                 self._step_seconds = max((time.perf_counter() - t0) / done, 1e-9)
             if why == steploop.WHY_ERROR:
@@ -139,6 +141,14 @@ class Runner:
                 return done
         self.slow_step(plan)
         return 1
+
+    def sync_counters(self, plan: Plan) -> None:
+        """Copy the kernels' counters into the engines' read-only YADE attributes."""
+        runs = int(self.scene.contacts.ctr[C_COLLIDER_RUNS])
+        for e in plan.compiled:
+            if "numAction" in e._attrs:
+                object.__setattr__(e, "numAction", runs)
+                object.__setattr__(e, "numReinit", runs)
 
     def slow_step(self, plan: Plan) -> None:
         """One step, segment by segment, with the Python engines that are due."""
@@ -154,6 +164,7 @@ class Runner:
                     self.raise_status()
             elif not item.dead and item.due(scene):
                 item.run_python(self.omega)
+        self.sync_counters(plan)
         scene.scal[S_TIME] += scene.scal[S_DT]
         scene.iscal[I_ITER] += 1
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 from granum._jit import jit
 from granum.core.bodies import ShapeKind
 from granum.physics import registry
-from granum.physics.registry import Functor
+from granum.physics.registry import Functor, Param
 from granum.physics.scgeom import scgeom_write
 from granum.physics.vec import add, load3, load4, norm, quat_rotate, quat_rotate_inv, scale, sub
 
@@ -76,4 +76,7 @@ registry.register_functor(Functor(
     "Axis-aligned bound of an oriented box."))
 registry.register_functor(Functor(
     "Ig2_Box_Sphere_ScGeom", "geom", (ShapeKind.BOX, ShapeKind.SPHERE), "ScGeom",
-    f"{__name__}:geom_box_sphere", (), geom_box_sphere.py_func.__doc__))
+    f"{__name__}:geom_box_sphere",
+    (Param("interactionDetectionFactor", 1.0, "Make the contact real closer than this factor (accepted)",
+           supported=False),),
+    geom_box_sphere.py_func.__doc__))

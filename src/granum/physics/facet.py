@@ -16,7 +16,7 @@ import math
 from granum._jit import jit
 from granum.core.bodies import ShapeKind
 from granum.physics import registry
-from granum.physics.registry import Functor
+from granum.physics.registry import Functor, Param
 from granum.physics.scgeom import scgeom_write
 from granum.physics.vec import add, dot, load3, load4, norm, quat_rotate, scale, sub
 
@@ -111,4 +111,7 @@ registry.register_functor(Functor(
     "Axis-aligned bound of a facet."))
 registry.register_functor(Functor(
     "Ig2_Facet_Sphere_ScGeom", "geom", (ShapeKind.FACET, ShapeKind.SPHERE), "ScGeom",
-    f"{__name__}:geom_facet_sphere", (), geom_facet_sphere.py_func.__doc__))
+    f"{__name__}:geom_facet_sphere",
+    (Param("shrinkFactor", 0.0, "Shrink the facet for the contact test (accepted)", supported=False),
+     Param("hertzian", False, "Hertzian contact geometry (accepted)", supported=False)),
+    geom_facet_sphere.py_func.__doc__))

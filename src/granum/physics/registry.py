@@ -50,11 +50,16 @@ class TypeInfo:
 
 @dataclass(frozen=True)
 class Param:
-    """A functor or material parameter: YADE attribute name, default, meaning and units."""
+    """A functor or material parameter: YADE attribute name, default, meaning and units.
+
+    ``supported=False`` marks a YADE attribute granum accepts for compatibility but
+    does not implement: any value other than the default is refused when the scene runs.
+    """
 
     name: str
     default: object
     doc: str = ""
+    supported: bool = True
 
 
 @dataclass(frozen=True)

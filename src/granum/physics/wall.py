@@ -64,5 +64,6 @@ registry.register_functor(Functor(
 registry.register_functor(Functor(
     "Ig2_Wall_Sphere_ScGeom", "geom", (ShapeKind.WALL, ShapeKind.SPHERE), "ScGeom",
     f"{__name__}:geom_wall_sphere",
-    (Param("noRatch", True, "Use reference radii as lever arms in the relative velocity [-]"),),
+    (Param("noRatch", True, "Use reference radii as lever arms in the relative velocity [-]"),
+     Param("hertzian", False, "Hertzian contact geometry (accepted)", supported=False)),
     geom_wall_sphere.py_func.__doc__))
