@@ -1,0 +1,94 @@
+"""The ``granum`` launcher: scripts run headless with YADE's namespace and imports."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import textwrap
+
+import pytest
+
+import granum
+
+
+def _granum(tmp_path, source: str, *args, module=False):
+    script = tmp_path / "script.py"
+    script.write_text(textwrap.dedent(source))
+    cmd = [sys.executable, "-m", "granum"] if module else [os.path.join(os.path.dirname(sys.executable), "granum")]
+    return subprocess.run(cmd + list(args) + [str(script), "a1", "--b2"], capture_output=True, text=True,
+                          cwd=tmp_path, timeout=600)
+
+
+SCRIPT = """
+    import sys
+    import yade
+    from yade import pack, plot, utils, geom, ymport, export, qt, timing
+    from yade.params import table
+    O.bodies.append([sphere((0, 0, 0), .5, fixed=True), sphere((0, 0, 2), .5)])
+    O.engines = [ForceResetter(), InsertionSortCollider([Bo1_Sphere_Aabb()]),
+                 InteractionLoop([Ig2_Sphere_Sphere_ScGeom()], [Ip2_FrictMat_FrictMat_FrictPhys()],
+                                 [Law2_ScGeom_FrictPhys_CundallStrack()]),
+                 NewtonIntegrator(gravity=(0, 0, -9.81), damping=.1),
+                 PyRunner(command='hits.append(O.iter)', iterPeriod=10)]
+    hits = []
+    O.dt = .5e-4 * PWaveTimeStep()
+    O.run(30, True)
+    qt.View()
+    print("RESULT", O.iter, hits, sys.argv[1:], pi == math.pi if 'math' in dir() else pi, yade.O is O,
+          type(Vector3(1, 2, 3)).__name__, utils.sphere is sphere)
+"""
+
+
+@pytest.mark.parametrize("module", [False, True])
+def test_script_runs_with_yade_namespace_and_imports(tmp_path, module):
+    """`granum script.py args` (and `python -m granum`) runs a YADE script unmodified and exits."""
+    r = _granum(tmp_path, SCRIPT, "-j", "2", module=module)
+    assert r.returncode == 0, r.stderr
+    line = [x for x in r.stdout.splitlines() if x.startswith("RESULT")][0]
+    assert line == "RESULT 30 [10, 20] ['a1', '--b2'] 3.141592653589793 True Vector3 True"
+
+
+def test_script_error_exits_nonzero_with_traceback(tmp_path):
+    """An exception in the script is reported with its traceback and a non-zero exit status."""
+    r = _granum(tmp_path, "O.bodies[3]\n")
+    assert r.returncode != 0
+    assert "IndexError" in r.stderr and "script.py" in r.stderr
+
+
+def test_version_and_missing_script(tmp_path):
+    """--version prints the version; a missing script is a clear error."""
+    exe = os.path.join(os.path.dirname(sys.executable), "granum")
+    r = subprocess.run([exe, "--version"], capture_output=True, text=True, timeout=120)
+    assert r.stdout.strip() == f"granum {granum.__version__}"
+    r = subprocess.run([exe, str(tmp_path / "nope.py")], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 2 and "no such script" in r.stderr
+
+
+def test_yade_alias_does_not_leak_to_other_programs():
+    """Outside the launcher `import yade` is not redirected to granum."""
+    r = subprocess.run([sys.executable, "-c", "import granum.yade\nimport yade"], capture_output=True, text=True,
+                       timeout=120)
+    assert r.returncode != 0 and "No module named 'yade'" in r.stderr
+
+
+def test_library_use_without_launcher():
+    """`from granum.yade import *` gives an ordinary program the script namespace."""
+    code = ("from granum.yade import *\n"
+            "O.bodies.append(sphere((0,0,0),1))\n"
+            "O.engines=[NewtonIntegrator(gravity=(0,0,-10),damping=0)]\n"
+            "O.engines[0].label='newt'\n"
+            "O.dt=1e-3; O.run(10,True)\n"
+            "print(round(O.bodies[0].state.vel[2], 9), sin(0.0))\n")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.split() == ["-0.1", "0.0"]
+
+
+def test_interactive_prompt_reads_commands(tmp_path):
+    """`granum` without a script opens a prompt with the YADE namespace."""
+    exe = os.path.join(os.path.dirname(sys.executable), "granum")
+    r = subprocess.run([exe], input="print('ITER', O.iter, len(O.bodies))\n", capture_output=True, text=True,
+                       timeout=300, cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert "ITER 0 0" in r.stdout
