@@ -73,7 +73,13 @@ def _configure_numba() -> None:
 
 _configure_numba()
 
+import numba  # noqa: E402
 from numba import njit, prange  # noqa: E402  (after the cache directory is configured)
+
+# Start numba's thread pool now. Compiling a parallel kernel starts it as a side effect,
+# but loading one from the cache does not, and calling a cached parallel kernel before
+# the pool exists crashes the process.
+numba.get_num_threads()
 
 #: Loops shorter than this run serially: below it, waking the thread pool costs more
 #: than the loop. The choice depends on the size only, so it never changes results.

@@ -113,7 +113,8 @@ class InsertionSortCollider(GlobalEngine):
         bound_code = np.full(NKINDS, -1, np.int32)
         for f in self.boundDispatcher.functors:
             bound_code[f.spec.types[0]] = f.code
-        return (bound_code, param_table("bound", self.boundDispatcher.functors), float(self.verletDist))
+        return (bound_code, param_table("bound", self.boundDispatcher.functors), float(self.verletDist),
+                int(self.avoidSelfInteractionMask))
 
 
 class InteractionLoop(GlobalEngine):

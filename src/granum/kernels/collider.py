@@ -116,13 +116,16 @@ compute_bounds, compute_bounds_par = kernel(_compute_bounds)
 
 
 @jit
-def may_collide(S, i, j):
-    """YADE's collision filter: masks share a bit, not two members of one clump.
+def may_collide(S, i, j, avoid_self):
+    """YADE's collision filter: masks share a bit, not two members of one clump, and not two
+    bodies of the same mask sharing bits with ``avoidSelfInteractionMask``.
 
     Pairs whose shapes have no geometry functor are kept, as in YADE: they are
     potential interactions that never become real.
     """
-    if (S.mask[i] & S.mask[j]) == 0:
+    mi = S.mask[i]
+    mj = S.mask[j]
+    if (mi & mj) == 0 or (mi == mj and (mi & avoid_self) != 0):
         return False
     return not (S.clump_id[i] >= 0 and S.clump_id[i] == S.clump_id[j])
 
@@ -147,7 +150,7 @@ def cell_range(key, keys_sorted, dense_start):
     return a, b
 
 
-def _partners(S, nb, small, cell, dims, order, keys_sorted, dense_start, large, count, start, out):
+def _partners(S, nb, small, cell, dims, order, keys_sorted, dense_start, large, avoid_self, count, start, out):
     """Pass 1 (``out`` empty): count partners j > i of each body. Pass 2: write them."""
     fill = out.shape[0] > 0
     for i in prange(nb):
@@ -171,13 +174,13 @@ def _partners(S, nb, small, cell, dims, order, keys_sorted, dense_start, large, 
                         a, b = cell_range((cx * dims[1] + cy) * dims[2] + cz, keys_sorted, dense_start)
                         for t in range(a, b):
                             j = order[t]
-                            if j > i and overlap(S, i, j) and may_collide(S, i, j):
+                            if j > i and overlap(S, i, j) and may_collide(S, i, j, avoid_self):
                                 if fill:
                                     out[base + n, 0] = i
                                     out[base + n, 1] = j
                                 n += 1
             for j in large:
-                if j > i and overlap(S, i, j) and may_collide(S, i, j):
+                if j > i and overlap(S, i, j) and may_collide(S, i, j, avoid_self):
                     if fill:
                         out[base + n, 0] = i
                         out[base + n, 1] = j
@@ -192,7 +195,7 @@ def _partners(S, nb, small, cell, dims, order, keys_sorted, dense_start, large, 
                     out[w + 1, 1] = v
         else:
             for j in range(i + 1, nb):  # in id order: already sorted
-                if S.bound_min[j, 0] <= S.bound_max[j, 0] and overlap(S, i, j) and may_collide(S, i, j):
+                if S.bound_min[j, 0] <= S.bound_max[j, 0] and overlap(S, i, j) and may_collide(S, i, j, avoid_self):
                     if fill:
                         out[base + n, 0] = i
                         out[base + n, 1] = j
@@ -205,7 +208,7 @@ partners, partners_par = kernel(_partners)
 
 
 @jit
-def find_pairs(S, nb):
+def find_pairs(S, nb, avoid_self):
     """All pairs (i < j) with overlapping bounds that may collide, sorted, shape (P, 2)."""
     width = np.zeros(nb)
     bounded = np.zeros(nb, np.bool_)
@@ -239,6 +242,9 @@ def find_pairs(S, nb):
             for k in range(3):
                 lo[k] = min(lo[k], S.bound_min[i, k])
                 hi[k] = max(hi[k], S.bound_min[i, k])
+        # at most 2**20 cells per axis (keys must fit in int64): coarser cells only add candidates
+        for k in range(3):
+            h = max(h, (hi[k] - lo[k]) / (1 << 20))
         for k in range(3):
             dims[k] = int((hi[k] - lo[k]) / h) + 1
         for i in idx:
@@ -265,16 +271,16 @@ def find_pairs(S, nb):
     none = np.zeros((0, 2), np.int32)
     par = nb >= PARALLEL_THRESHOLD
     if par:
-        partners_par(S, nb, small, cell, dims, order, keys_sorted, dense_start, large, count, start, none)
+        partners_par(S, nb, small, cell, dims, order, keys_sorted, dense_start, large, avoid_self, count, start, none)
     else:
-        partners(S, nb, small, cell, dims, order, keys_sorted, dense_start, large, count, start, none)
+        partners(S, nb, small, cell, dims, order, keys_sorted, dense_start, large, avoid_self, count, start, none)
     for i in range(nb):
         start[i + 1] = start[i] + count[i]
     out = np.empty((start[nb], 2), np.int32)
     if par:
-        partners_par(S, nb, small, cell, dims, order, keys_sorted, dense_start, large, count, start, out)
+        partners_par(S, nb, small, cell, dims, order, keys_sorted, dense_start, large, avoid_self, count, start, out)
     else:
-        partners(S, nb, small, cell, dims, order, keys_sorted, dense_start, large, count, start, out)
+        partners(S, nb, small, cell, dims, order, keys_sorted, dense_start, large, avoid_self, count, start, out)
     return out, start
 
 
@@ -310,8 +316,8 @@ relink, relink_par = kernel(_relink)
 
 @jit
 def collider_stage(S, C, P):
-    """Engine stage of InsertionSortCollider; P = (bound_code, bound_prm, verlet_dist)."""
-    bound_code, bound_prm, verlet_dist = P
+    """Engine stage of InsertionSortCollider; P = (bound_code, bound_prm, verlet_dist, avoid_self_mask)."""
+    bound_code, bound_prm, verlet_dist, avoid_self = P
     nb = S.iscal[I_NBODIES]
     if C.ctr[C_COLLIDE] == 0 and not any_body_moved(S, nb):
         return
@@ -327,7 +333,7 @@ def collider_stage(S, C, P):
         compute_bounds(S, nb, bound_code, bound_prm, verlet)
     else:
         compute_bounds_par(S, nb, bound_code, bound_prm, verlet)
-    pairs, start = find_pairs(S, nb)
+    pairs, start = find_pairs(S, nb, avoid_self)
     n = pairs.shape[0]
     cap = max(n, 16)
     pair_ids = np.empty((cap, 2), np.int32)

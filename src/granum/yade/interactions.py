@@ -203,17 +203,28 @@ class InteractionContainer:
                 raise IndexError(f"Body id out of range: {i} (there are {n} bodies)")
         return a, b
 
+    def _potential(self, a: int, b: int) -> bool:
+        """Whether (a, b) is a potential pair (bounds overlap); erased bodies have none."""
+        alive = self._scene.bodies.alive
+        return bool(alive[a] and alive[b]) and find_pair(self._scene.contacts, a, b) >= 0
+
+    def _live_pairs(self) -> np.ndarray:
+        """Indices of the potential pairs whose two bodies exist."""
+        C = self._scene.contacts
+        n = int(C.ctr[C_PAIRS])
+        alive = self._scene.bodies.alive
+        return np.nonzero(alive[C.pair_ids[:n, 0]] & alive[C.pair_ids[:n, 1]])[0]
+
     def __getitem__(self, key) -> Interaction:
         a, b = self._ids(key)
         C = self._scene.contacts
-        if find_contact(C, a, b) < 0 and find_pair(C, a, b) < 0:
+        if find_contact(C, a, b) < 0 and not self._potential(a, b):
             raise ValueError(f"No such interaction: ({a}, {b})")
         return Interaction(self._scene, a, b)
 
     def has(self, id1: int, id2: int, onlyReal: bool = False) -> bool:
         a, b = self._ids((id1, id2))
-        C = self._scene.contacts
-        return find_contact(C, a, b) >= 0 or (not onlyReal and find_pair(C, a, b) >= 0)
+        return find_contact(self._scene.contacts, a, b) >= 0 or (not onlyReal and self._potential(a, b))
 
     def _live_rows(self) -> np.ndarray:
         C = self._scene.contacts
@@ -229,15 +240,15 @@ class InteractionContainer:
         out = list(self)
         if not onlyReal:
             C = self._scene.contacts
-            n = int(C.ctr[C_PAIRS])
-            for p in np.nonzero(C.pair_con[:n] < 0)[0]:
-                out.append(Interaction(self._scene, int(C.pair_ids[p, 0]), int(C.pair_ids[p, 1])))
+            for p in self._live_pairs():
+                if C.pair_con[p] < 0:
+                    out.append(Interaction(self._scene, int(C.pair_ids[p, 0]), int(C.pair_ids[p, 1])))
         return out
 
     def __len__(self) -> int:
         C = self._scene.contacts
         rows = self._live_rows()
-        return int(C.ctr[C_PAIRS]) + int(np.count_nonzero(C.con_i[rows, I_PAIR] < 0))
+        return int(self._live_pairs().size) + int(np.count_nonzero(C.con_i[rows, I_PAIR] < 0))
 
     def countReal(self) -> int:
         return int(self._live_rows().size)
