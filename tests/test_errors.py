@@ -130,7 +130,8 @@ def test_missing_physics_functor_names_both_materials(yade):
     m2 = yade.O.materials.append(yade.FrictMat())
     yade.O.bodies.append([yade.sphere((0, 0, 0), 1, material=m1), yade.sphere((0, 0, 1.99), 1, material=m2)])
     yade.O.engines = [yade.ForceResetter(), yade.InsertionSortCollider([yade.Bo1_Sphere_Aabb()]),
-                      yade.InteractionLoop([yade.Ig2_Sphere_Sphere_ScGeom()], [yade.Ip2_ViscElMat_ViscElMat_ViscElPhys()],
+                      yade.InteractionLoop([yade.Ig2_Sphere_Sphere_ScGeom()],
+                                           [yade.Ip2_ViscElMat_ViscElMat_ViscElPhys()],
                                            [yade.Law2_ScGeom_ViscElPhys_Basic()]),
                       yade.NewtonIntegrator()]
     yade.O.dt = 1e-6
