@@ -57,6 +57,23 @@ class BodyStore:
         return kind, self.shapes.get(kind), int(self.bodies.shape_row[i])
 
 
+def default_tags() -> dict:
+    """YADE's predefined scene tags: ``id`` (date-time-pid, unique per run), ``d.id``, ``id.d``,
+    ``isoTime`` and ``author``."""
+    import datetime
+    import getpass
+    import os
+    import socket
+
+    now = datetime.datetime.now()
+    sid = now.strftime("%Y%m%dT%H%M%S") + f"p{os.getpid()}"
+    try:
+        author = f"{getpass.getuser()}@{socket.gethostname()}"
+    except (KeyError, OSError):
+        author = "unknown"
+    return {"author": author, "isoTime": now.strftime("%Y%m%dT%H%M%S"), "id": sid, "d.id": sid, "id.d": sid}
+
+
 class Scene(BodyStore):
     """Storage, clock and engines of one simulation (what YADE's ``O`` refers to)."""
 
@@ -71,7 +88,7 @@ class Scene(BodyStore):
         self.cell_hsize = np.eye(3)
         self.cell_velgrad = np.zeros((3, 3))
         self.engines: list = []
-        self.tags: dict = {}
+        self.tags: dict = default_tags()
         self.stop_at_iter = 0
         self.stop_at_time = 0.0
         self._mat_cache = None

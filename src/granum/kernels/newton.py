@@ -61,7 +61,11 @@ def quat_dot(q, w_local):
 
 @jit
 def integrate_aspherical(i, S, torque, dt):
-    """Fincham's leapfrog for the rotation of an aspherical body (3.5,20)-(3.5,21)."""
+    """Fincham's leapfrog for the rotation of an aspherical body (3.5,20)-(3.5,21).
+
+    References:
+        D. Fincham (1992), Leapfrog rotational algorithms, *Molecular Simulation* 8:165-178.
+    """
     q = load4(S.ori, i)
     inertia = (S.inertia[i, 0], S.inertia[i, 1], S.inertia[i, 2])
     mom = (S.ang_mom[i, 0], S.ang_mom[i, 1], S.ang_mom[i, 2])
@@ -71,7 +75,9 @@ def integrate_aspherical(i, S, torque, dt):
     w_on = (l_on[0] / inertia[0], l_on[1] / inertia[1], l_on[2] / inertia[2])
     dq = quat_dot(q, w_on)
     q_half = (q[0] + 0.5 * dt * dq[0], q[1] + 0.5 * dt * dq[1], q[2] + 0.5 * dt * dq[2], q[3] + 0.5 * dt * dq[3])
-    l_mid = quat_rotate_inv(q, mom_mid)
+    # the mid-step momentum is taken to the body frame with the mid-step orientation (Fincham
+    # 1992); YADE uses the start-of-step one, which makes the scheme only first order
+    l_mid = quat_rotate_inv(quat_normalized(q_half), mom_mid)
     w_mid = (l_mid[0] / inertia[0], l_mid[1] / inertia[1], l_mid[2] / inertia[2])
     dq = quat_dot(q_half, w_mid)
     q_new = quat_normalized((q[0] + dt * dq[0], q[1] + dt * dq[1], q[2] + dt * dq[2], q[3] + dt * dq[3]))
