@@ -24,7 +24,9 @@ I_ITER = 0         # step counter
 I_TRACK_ENERGY = 1  # 1 when O.trackEnergy
 I_NBODIES = 2      # number of body ids in use (len(O.bodies))
 I_PERIODIC = 3     # 1 when the scene is periodic
-NISCAL = 4
+I_HOMO_DEFORM = 4  # YADE's Cell.homoDeform: 0 none, 1 velocity jumps, 2 also the convective term
+I_HOOK = 5         # set by a compiled engine that needs its Python hook run after this step (engine index + 1)
+NISCAL = 6
 
 # ---- energy slots: energy[E_*], energy_set[E_*] -------------------------------------
 ENERGY_NAMES = ("kinetic", "gravWork", "nonviscDamp", "elastPotential", "plastDissip")
@@ -42,6 +44,9 @@ def _scene_fields() -> list[tuple[str, str, int]]:
         ("mat", "f8", 2),           # material parameters, columns named by the registry, (M, ncol)
         ("cell_hsize", "f8", 2),    # periodic cell base vectors as columns [m], (3, 3)
         ("cell_velgrad", "f8", 2),  # velocity gradient of the cell [1/s], (3, 3)
+        ("cell_prev_velgrad", "f8", 2),  # velocity gradient of the previous step [1/s], (3, 3)
+        ("cell_trsf", "f8", 2),     # accumulated deformation gradient F [-], (3, 3)
+        ("cell_bound_hsize", "f8", 2),  # hSize when the collider last ran [m], (3, 3)
         ("scal", "f8", 1),          # float scalars S_*, (NSCAL,)
         ("iscal", "i8", 1),         # integer scalars I_*, (NISCAL,)
         ("energy", "f8", 1),        # energy terms E_* [J], (NENERGY,)

@@ -7,6 +7,9 @@ potential pairs are never real, so granum keeps them apart:
 ``pair_ids``  (P, 2) int32
     Potential pairs found by the collider, sorted by (min id, max id). Rebuilt only
     when the collider runs.
+``pair_cell``  (P, 3) int32
+    Periodic image of the second body of the pair: its position is taken as
+    ``pos + hSize @ pair_cell`` (YADE's ``cellDist``); zero in aperiodic scenes.
 ``pair_con``  (P,) int32
     Index of the pair's real contact in the pool, or -1.
 ``con_i``, ``con_f``  (K, NI) int32 and (K, NF) float64
@@ -103,10 +106,11 @@ STATUS_NO_PHYS = 1      # no IPhys functor for a material pair (ERR_A, ERR_B: bo
 STATUS_NO_LAW = 2       # no law functor for a geometry/physics pair (ERR_A, ERR_B: body ids)
 STATUS_NONFINITE = 3    # NaN/inf or exploding velocity (ERR_A: body id)
 STATUS_NO_GEOM = 4      # bounds of two bodies overlap, a geometry functor exists but is not listed
+STATUS_TOO_LARGE = 5    # a body is wider than half the periodic cell (ERR_A: body id)
 
 #: Record of the interaction storage passed to kernels (see the module docstring).
 CONTACTS = RecordSpec("ContactArrays", [
-    ("pair_ids", "i4", 2), ("pair_con", "i4", 1), ("pair_hit", "u1", 1), ("con_i", "i4", 2),
+    ("pair_ids", "i4", 2), ("pair_cell", "i4", 2), ("pair_con", "i4", 1), ("pair_hit", "u1", 1), ("con_i", "i4", 2),
     ("con_f", "f8", 2), ("csr_start", "i4", 1), ("csr_con", "i4", 1), ("ctr", "i8", 1)])
 ContactArrays = CONTACTS.tuple
 
@@ -119,6 +123,7 @@ def new_contact_arrays(n_bodies: int, pair_capacity: int = 64, contact_capacity:
     ctr[C_COLLIDE] = 1
     return ContactArrays(
         pair_ids=np.zeros((pair_capacity, 2), np.int32),
+        pair_cell=np.zeros((pair_capacity, 3), np.int32),
         pair_con=np.full(pair_capacity, -1, np.int32),
         pair_hit=np.zeros(pair_capacity, np.uint8),
         con_i=con_i,

@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from granum.core.arrays import (
+    I_HOMO_DEFORM,
     I_ITER,
     I_NBODIES,
     I_PERIODIC,
@@ -87,6 +88,11 @@ class Scene(BodyStore):
         self.energy_set = np.zeros(NENERGY, np.uint8)
         self.cell_hsize = np.eye(3)
         self.cell_velgrad = np.zeros((3, 3))
+        self.cell_prev_velgrad = np.zeros((3, 3))
+        self.cell_trsf = np.eye(3)
+        self.cell_ref_hsize = np.eye(3)
+        self.cell_bound_hsize = np.eye(3)
+        self.iscal[I_HOMO_DEFORM] = 2
         self.engines: list = []
         self.tags: dict = default_tags()
         self.stop_at_iter = 0
@@ -186,5 +192,7 @@ class Scene(BodyStore):
         for kind, table in self.shapes.items():
             values.update({f"{kind.name.lower()}_{c.name}": getattr(table, c.name) for c in table.columns})
         values.update(mat_kind=mat_kind, mat=mat, cell_hsize=self.cell_hsize, cell_velgrad=self.cell_velgrad,
+                      cell_prev_velgrad=self.cell_prev_velgrad, cell_trsf=self.cell_trsf,
+                      cell_bound_hsize=self.cell_bound_hsize,
                       scal=self.scal, iscal=self.iscal, energy=self.energy, energy_set=self.energy_set)
         return SCENE.to_record([values[n] for n in SCENE.names])

@@ -30,9 +30,15 @@ class Engine(Attributed):
     #: ``"module:function"`` of the compiled stage, or None for an engine run in Python.
     stage: str | None = None
 
+    #: position + 1 of a compiled engine in the current plan (set by the runner)
+    _plan_index = 0
+
     def params(self, scene, engines) -> tuple:
         """Parameter tuple ``P`` of the compiled stage (``engines``: the whole engine list)."""
         return ()
+
+    def run_hook(self, omega) -> None:
+        """Python part of a compiled engine, run after a step in which its stage asked for it."""
 
     def due(self, scene) -> bool:
         """Whether a Python engine must run in the current step."""

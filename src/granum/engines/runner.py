@@ -19,7 +19,7 @@ import time
 import numpy as np
 
 from granum._jit import call
-from granum.core.arrays import I_ITER, S_DT, S_TIME
+from granum.core.arrays import I_HOOK
 from granum.core.bodies import ShapeKind
 from granum.core.contacts import (
     C_COLLIDER_RUNS,
@@ -33,6 +33,7 @@ from granum.core.contacts import (
 )
 from granum.engines.base import PeriodicEngine
 from granum.kernels import steploop
+from granum.kernels.cell import step_begin, step_end
 
 #: Longest wall-clock time of one compiled chunk [s].
 CHUNK_SECONDS = 0.25
@@ -87,6 +88,8 @@ class Runner:
         return self._plan
 
     def params(self, plan: Plan) -> tuple:
+        for k, e in enumerate(plan.compiled):
+            object.__setattr__(e, "_plan_index", k + 1)  # what a stage writes to I_HOOK to call back
         return tuple(e.params(self.scene, plan.engines) for e in plan.compiled)
 
     def check_scene(self) -> None:
@@ -137,6 +140,8 @@ class Runner:
                 self._step_seconds = max((time.perf_counter() - t0) / done, 1e-9)
             if why == steploop.WHY_ERROR:
                 self.raise_status()
+            if why == steploop.WHY_HOOK:
+                self.run_hooks(plan)
             if done or why == steploop.WHY_TIME:
                 return done
         self.slow_step(plan)
@@ -153,6 +158,7 @@ class Runner:
     def slow_step(self, plan: Plan) -> None:
         """One step, segment by segment, with the Python engines that are due."""
         scene = self.scene
+        call(step_begin, scene.arrays())
         for kind, item in plan.items:
             if kind == "segment":
                 run = getattr(plan.module, f"run_segment_{item}")
@@ -165,8 +171,15 @@ class Runner:
             elif not item.dead and item.due(scene):
                 item.run_python(self.omega)
         self.sync_counters(plan)
-        scene.scal[S_TIME] += scene.scal[S_DT]
-        scene.iscal[I_ITER] += 1
+        call(step_end, scene.arrays())
+        self.run_hooks(plan)
+
+    def run_hooks(self, plan: Plan) -> None:
+        """Run the Python hook a compiled engine asked for during the last step."""
+        k = int(self.scene.iscal[I_HOOK])
+        if k:
+            self.scene.iscal[I_HOOK] = 0
+            plan.compiled[k - 1].run_hook(self.omega)
 
     def raise_status(self):
         scene = self.scene

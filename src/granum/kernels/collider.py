@@ -26,20 +26,26 @@ import math
 import numpy as np
 
 from granum._jit import PARALLEL_THRESHOLD, jit, kernel, prange
-from granum.core.arrays import I_NBODIES, S_VERLET
+from granum.core.arrays import I_NBODIES, I_PERIODIC, S_VERLET
 from granum.core.bodies import ShapeKind
 from granum.core.contacts import (
     C_COLLIDE,
     C_COLLIDER_RUNS,
     C_CONTACTS,
+    C_ERR_A,
     C_PAIRS,
+    C_STATUS,
     FLAG_ALIVE,
+    I_CELL,
     I_FLAGS,
     I_ID1,
     I_ID2,
     I_PAIR,
+    STATUS_TOO_LARGE,
 )
+from granum.kernels.collider_periodic import find_pairs_periodic
 from granum.kernels.dispatch import bound_call
+from granum.kernels.pairing import may_collide
 from granum.physics.vec import load3, load4, norm, quat_angle, quat_mul, sub
 
 BLOCK = 512  # bodies per block of block-wise loops (fixed: results never depend on threads)
@@ -113,21 +119,6 @@ def _compute_bounds(S, nb, bound_code, bound_prm, verlet):
 
 
 compute_bounds, compute_bounds_par = kernel(_compute_bounds)
-
-
-@jit
-def may_collide(S, i, j, avoid_self):
-    """YADE's collision filter: masks share a bit, not two members of one clump, and not two
-    bodies of the same mask sharing bits with ``avoidSelfInteractionMask``.
-
-    Pairs whose shapes have no geometry functor are kept, as in YADE: they are
-    potential interactions that never become real.
-    """
-    mi = S.mask[i]
-    mj = S.mask[j]
-    if (mi & mj) == 0 or (mi == mj and (mi & avoid_self) != 0):
-        return False
-    return not (S.clump_id[i] >= 0 and S.clump_id[i] == S.clump_id[j])
 
 
 @jit
@@ -300,12 +291,21 @@ def find_pair(pairs, start, a, b):
     return -1
 
 
-def _relink(C, pairs, start, pair_con):
+def _relink(C, pairs, start, cells, pair_con):
     for c in prange(C.ctr[C_CONTACTS]):
         if C.con_i[c, I_FLAGS] & FLAG_ALIVE:
-            a = min(C.con_i[c, I_ID1], C.con_i[c, I_ID2])
-            b = max(C.con_i[c, I_ID1], C.con_i[c, I_ID2])
+            id1 = C.con_i[c, I_ID1]
+            id2 = C.con_i[c, I_ID2]
+            a = min(id1, id2)
+            b = max(id1, id2)
             p = find_pair(pairs, start, a, b)
+            if p >= 0:
+                # the pair must join the same periodic images as the contact
+                sign = 1 if a == id1 else -1
+                for k in range(3):
+                    if cells[p, k] != sign * C.con_i[c, I_CELL + k]:
+                        p = -1
+                        break
             C.con_i[c, I_PAIR] = p
             if p >= 0:
                 pair_con[p] = c
@@ -315,11 +315,23 @@ relink, relink_par = kernel(_relink)
 
 
 @jit
+def cell_moved(S, verlet):
+    """Whether the periodic cell changed enough since the last collider run to invalidate bounds."""
+    change = 0.0
+    for i in range(3):
+        for j in range(3):
+            change += (S.cell_hsize[i, j] - S.cell_bound_hsize[i, j]) ** 2
+    # a point of the (wrapped) cell moves by at most |dH| |s| <= |dH|_F sqrt(3)
+    return math.sqrt(3.0 * change) > 0.5 * verlet
+
+
+@jit
 def collider_stage(S, C, P):
     """Engine stage of InsertionSortCollider; P = (bound_code, bound_prm, verlet_dist, avoid_self_mask)."""
     bound_code, bound_prm, verlet_dist, avoid_self = P
     nb = S.iscal[I_NBODIES]
-    if C.ctr[C_COLLIDE] == 0 and not any_body_moved(S, nb):
+    periodic = S.iscal[I_PERIODIC] != 0
+    if C.ctr[C_COLLIDE] == 0 and not any_body_moved(S, nb) and not (periodic and cell_moved(S, S.scal[S_VERLET])):
         return
     verlet = verlet_dist
     if verlet < 0.0:
@@ -333,19 +345,33 @@ def collider_stage(S, C, P):
         compute_bounds(S, nb, bound_code, bound_prm, verlet)
     else:
         compute_bounds_par(S, nb, bound_code, bound_prm, verlet)
-    pairs, start = find_pairs(S, nb, avoid_self)
+    if periodic:
+        # bodies and the cell share the Verlet budget: each may use half of it
+        S.scal[S_VERLET] = 0.5 * verlet
+        S.cell_bound_hsize[:, :] = S.cell_hsize
+        pairs, start, cells, too_large = find_pairs_periodic(S, nb, avoid_self)
+        if too_large >= 0:
+            C.ctr[C_STATUS] = STATUS_TOO_LARGE
+            C.ctr[C_ERR_A] = too_large
+            return
+    else:
+        pairs, start = find_pairs(S, nb, avoid_self)
+        cells = np.zeros((pairs.shape[0], 3), np.int32)
     n = pairs.shape[0]
     cap = max(n, 16)
     pair_ids = np.empty((cap, 2), np.int32)
     pair_ids[:n] = pairs
+    pair_cell = np.zeros((cap, 3), np.int32)
+    pair_cell[:n] = cells
     pair_con = np.full(cap, -1, np.int32)
     if C.ctr[C_CONTACTS] < PARALLEL_THRESHOLD:
-        relink(C, pairs, start, pair_con)
+        relink(C, pairs, start, cells, pair_con)
     else:
-        relink_par(C, pairs, start, pair_con)
+        relink_par(C, pairs, start, cells, pair_con)
     C.ctr[C_PAIRS] = n
     C.ctr[C_COLLIDE] = 0
     C.ctr[C_COLLIDER_RUNS] += 1
     C.pair_ids = pair_ids
+    C.pair_cell = pair_cell
     C.pair_con = pair_con
     C.pair_hit = np.zeros(cap, np.uint8)

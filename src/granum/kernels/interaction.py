@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from granum._jit import PARALLEL_THRESHOLD, jit, kernel, prange
-from granum.core.arrays import E_ELAST_POT, E_PLAST_DISSIP, I_ITER, I_NBODIES, I_TRACK_ENERGY
+from granum.core.arrays import E_ELAST_POT, E_PLAST_DISSIP, I_ITER, I_NBODIES, I_PERIODIC, I_TRACK_ENERGY
 from granum.core.contacts import (
     C_CONTACTS,
     C_CSR_DIRTY,
@@ -59,15 +59,23 @@ from granum.core.contacts import (
 from granum.kernels.collider import BLOCK
 from granum.kernels.dispatch import geom_call, law_call, phys_call
 from granum.physics.scgeom import contact_shift
-from granum.physics.vec import add, cross, load3, scale, sub
+from granum.physics.vec import add, cross, load3, matvec, scale, sub
 
 FLAG_PHYS_SWAP = 8   # the physics functor is declared for (material 2, material 1)
 HIT_TOUCH = 1        # pair_hit: the pair touches and becomes a contact
 HIT_NO_FUNCTOR = 2   # pair_hit: a geometry functor exists for the shapes but is not listed
 
 
+@jit
+def pair_shift(S, C, p):
+    """Offset H k of the second body's periodic image for pair ``p`` (zero if aperiodic)."""
+    if S.iscal[I_PERIODIC] == 0:
+        return (0.0, 0.0, 0.0)
+    k = (float(C.pair_cell[p, 0]), float(C.pair_cell[p, 1]), float(C.pair_cell[p, 2]))
+    return matvec(S.cell_hsize, k)
+
+
 def _detect(S, C, geom_code, geom_swap, geom_prm, pair_ok):
-    zero = (0.0, 0.0, 0.0)
     for p in prange(C.ctr[C_PAIRS]):
         hit = 0
         if C.pair_con[p] < 0:
@@ -76,13 +84,14 @@ def _detect(S, C, geom_code, geom_swap, geom_prm, pair_ok):
             ka = S.shape_kind[a]
             kb = S.shape_kind[b]
             code = geom_code[ka, kb]
+            shift = pair_shift(S, C, p)
             if code < 0:
                 if pair_ok[ka, kb] == 2:
                     hit = HIT_NO_FUNCTOR
-            elif geom_swap[ka, kb]:
-                hit = HIT_TOUCH if geom_call(code, -1, b, a, zero, S, C, geom_prm) else 0
+            elif geom_swap[ka, kb]:  # the functor's body 2 is the pair's first body: opposite image
+                hit = HIT_TOUCH if geom_call(code, -1, b, a, scale(shift, -1.0), S, C, geom_prm) else 0
             else:
-                hit = HIT_TOUCH if geom_call(code, -1, a, b, zero, S, C, geom_prm) else 0
+                hit = HIT_TOUCH if geom_call(code, -1, a, b, shift, S, C, geom_prm) else 0
         C.pair_hit[p] = hit
 
 
@@ -144,8 +153,9 @@ def new_contact(S, C, a, b, p, geom_code, geom_swap, geom_type, phys_code, phys_
     C.con_i[c, I_GEOM] = g
     C.con_i[c, I_PHYS] = ph
     C.con_i[c, I_LAW] = law
+    sign = -1 if id1 == b else 1
     for k in range(3):
-        C.con_i[c, I_CELL + k] = 0
+        C.con_i[c, I_CELL + k] = sign * C.pair_cell[p, k] if p >= 0 else 0
     C.con_i[c, I_BORN] = S.iscal[I_ITER]
     if p >= 0:
         C.pair_con[p] = c
@@ -190,7 +200,8 @@ def create_contact_now(S, C, a, b, P):
         return
     id1 = C.con_i[c, I_ID1]
     id2 = C.con_i[c, I_ID2]
-    geom_call(C.con_i[c, I_GEOM], c, id1, id2, (0.0, 0.0, 0.0), S, C, geom_prm)
+    shift, _ = contact_shift(c, S, C)
+    geom_call(C.con_i[c, I_GEOM], c, id1, id2, shift, S, C, geom_prm)
     if C.con_i[c, I_FLAGS] & FLAG_PHYS_SWAP:
         phys_call(C.con_i[c, I_PHYS], c, id2, id1, S, C, phys_prm)
     else:

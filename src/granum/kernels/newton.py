@@ -29,13 +29,15 @@ from granum.core.arrays import (
     E_GRAV_WORK,
     E_KINETIC,
     E_NONVISC_DAMP,
+    I_HOMO_DEFORM,
     I_NBODIES,
+    I_PERIODIC,
     I_TRACK_ENERGY,
     S_DT,
 )
 from granum.core.contacts import C_ERR_A, C_STATUS, STATUS_NONFINITE
 from granum.kernels.collider import BLOCK
-from granum.physics.vec import load4, quat_mul, quat_normalized, quat_rotate, quat_rotate_inv
+from granum.physics.vec import load3, load4, matvec, quat_mul, quat_normalized, quat_rotate, quat_rotate_inv, scale, sub
 
 #: A body faster than this is taken as a numerical explosion [m/s].
 EXPLODING_SPEED = 1e8
@@ -91,6 +93,8 @@ def integrate_aspherical(i, S, torque, dt):
 
 def _newton_blocks(S, nb, gravity, damping, damp_gravity, sums, bad):
     dt = S.scal[S_DT]
+    periodic = S.iscal[I_PERIODIC] != 0
+    homo = S.iscal[I_HOMO_DEFORM]
     for b in prange(sums.shape[0]):
         kinetic = 0.0
         damp_work = 0.0
@@ -101,22 +105,35 @@ def _newton_blocks(S, nb, gravity, damping, damp_gravity, sums, bad):
             blocked = S.blocked[i]
             m = S.mass[i]
             damped = S.is_damped[i] and damping != 0.0
+            # periodic cell: bodies follow the homogeneous flow L x (YADE's homoDeform); damping
+            # and energies see only the fluctuation v - Lp x
+            flow = (0.0, 0.0, 0.0)
+            jump = (0.0, 0.0, 0.0)
+            conv = (0.0, 0.0, 0.0)
+            if periodic:
+                x = load3(S.pos, i)
+                flow = matvec(S.cell_prev_velgrad, x)
+                if homo >= 1:  # the flow changed: v jumps by (L - Lp) x
+                    jump = sub(matvec(S.cell_velgrad, x), flow)
+                if homo == 2:  # convective acceleration Lp v
+                    conv = scale(matvec(S.cell_prev_velgrad, load3(S.vel, i)), dt)
             # energies use the velocity of the previous mid-step, as YADE does
             for k in range(3):
                 v = S.vel[i, k]
-                kinetic += 0.5 * m * v * v
+                vf = v - flow[k]
+                kinetic += 0.5 * m * vf * vf
                 if not blocked >> k & 1:
                     g = gravity[k]
                     a = S.force[i, k] / m + g
-                    grav_work -= m * g * v * dt
+                    grav_work -= m * g * vf * dt
                     if damped:
                         if damp_gravity:
-                            ad = damp(a, v + 0.5 * dt * a, damping)
+                            ad = damp(a, vf + 0.5 * dt * a, damping)
                         else:
-                            ad = damp(a - g, v + 0.5 * dt * a, damping) + g
-                        damp_work += abs(m * (a - ad) * v) * dt
+                            ad = damp(a - g, vf + 0.5 * dt * a, damping) + g
+                        damp_work += abs(m * (a - ad) * vf) * dt
                         a = ad
-                    v += a * dt
+                    v += a * dt + jump[k] + conv[k]
                     S.vel[i, k] = v
                 S.pos[i, k] += v * dt
             # rotation
@@ -189,7 +206,6 @@ def newton_stage(S, C, P):
         if damping != 0.0:
             S.energy[E_NONVISC_DAMP] += total[1]
             S.energy_set[E_NONVISC_DAMP] = 1
-        if gravity[0] != 0.0 or gravity[1] != 0.0 or gravity[2] != 0.0:
-            S.energy[E_GRAV_WORK] += total[2]
-            S.energy_set[E_GRAV_WORK] = 1
+        S.energy[E_GRAV_WORK] += total[2]  # YADE lists gravWork even without gravity
+        S.energy_set[E_GRAV_WORK] = 1
 

@@ -27,7 +27,7 @@ from granum.core.contacts import (
     I_FLAGS,
 )
 from granum.physics import registry
-from granum.physics.vec import add, cross, dot, load3, scale, sub
+from granum.physics.vec import add, cross, dot, load3, matvec, scale, sub
 
 registry.register_geom_type("IGeom")
 registry.register_geom_type("GenericSpheresContact", "IGeom",
@@ -89,15 +89,9 @@ def contact_shift(c, S, C):
     """
     if S.iscal[I_PERIODIC] == 0:
         return (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
-    h = S.cell_hsize
     k = (float(C.con_i[c, I_CELL]), float(C.con_i[c, I_CELL + 1]), float(C.con_i[c, I_CELL + 2]))
-    shift = (h[0, 0] * k[0] + h[0, 1] * k[1] + h[0, 2] * k[2],
-             h[1, 0] * k[0] + h[1, 1] * k[1] + h[1, 2] * k[2],
-             h[2, 0] * k[0] + h[2, 1] * k[1] + h[2, 2] * k[2])
-    g = S.cell_velgrad
-    shift_vel = (g[0, 0] * shift[0] + g[0, 1] * shift[1] + g[0, 2] * shift[2],
-                 g[1, 0] * shift[0] + g[1, 1] * shift[1] + g[1, 2] * shift[2],
-                 g[2, 0] * shift[0] + g[2, 1] * shift[1] + g[2, 2] * shift[2])
+    shift = matvec(S.cell_hsize, k)
+    shift_vel = matvec(S.cell_velgrad, shift)
     return shift, shift_vel
 
 

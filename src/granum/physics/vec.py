@@ -108,3 +108,11 @@ def quat_angle(q):
     """Rotation angle of a unit quaternion, in [0, pi] [rad]."""
     w = min(1.0, abs(q[0]))
     return 2.0 * math.acos(w)
+
+
+@jit
+def matvec(m, v):
+    """Product of a (3, 3) array and a 3-tuple."""
+    return (m[0, 0] * v[0] + m[0, 1] * v[1] + m[0, 2] * v[2],
+            m[1, 0] * v[0] + m[1, 1] * v[1] + m[1, 2] * v[2],
+            m[2, 0] * v[0] + m[2, 1] * v[1] + m[2, 2] * v[2])

@@ -12,6 +12,7 @@ from __future__ import annotations
 import math as _math
 
 from granum.engines.base import Engine, GlobalEngine, PartialEngine, PeriodicEngine
+from granum.engines.controllers import PeriTriaxController
 from granum.engines.functors import CLASSES as _FUNCTORS
 from granum.engines.functors import BoundFunctor, Functor, IGeomFunctor, IPhysFunctor, LawFunctor
 from granum.engines.kinematic import ForceEngine, RotationEngine, TranslationEngine
@@ -28,6 +29,7 @@ from granum.mathtypes import Matrix3, Quaternion, Vector2, Vector2i, Vector3, Ve
 from granum.yade import export, geom, pack, plot, qt, timing, utils, ymport
 from granum.yade.batch import readParamsFromTable, runningInBatch, waitIfBatch
 from granum.yade.bodies import Aabb, Body, Box, Facet, Shape, Sphere, State, Wall
+from granum.yade.cell import Cell
 from granum.yade.interactions import GEOM_VIEWS as _GEOMS
 from granum.yade.interactions import PHYS_VIEWS as _PHYSS
 from granum.yade.interactions import Interaction
@@ -62,9 +64,10 @@ _namespace.update(
     PeriodicEngine=PeriodicEngine, Functor=Functor, BoundFunctor=BoundFunctor, IGeomFunctor=IGeomFunctor,
     IPhysFunctor=IPhysFunctor, LawFunctor=LawFunctor, ForceResetter=ForceResetter, GravityEngine=GravityEngine,
     InsertionSortCollider=InsertionSortCollider, InteractionLoop=InteractionLoop, NewtonIntegrator=NewtonIntegrator,
-    PyRunner=PyRunner, ForceEngine=ForceEngine, TranslationEngine=TranslationEngine, RotationEngine=RotationEngine,
+    PyRunner=PyRunner, PeriTriaxController=PeriTriaxController,
+    ForceEngine=ForceEngine, TranslationEngine=TranslationEngine, RotationEngine=RotationEngine,
     SimulationError=SimulationError, Body=Body, State=State, Shape=Shape, Sphere=Sphere, Facet=Facet, Wall=Wall,
-    Box=Box, Aabb=Aabb, Interaction=Interaction, Vector2=Vector2, Vector2i=Vector2i, Vector3=Vector3,
+    Box=Box, Aabb=Aabb, Cell=Cell, Interaction=Interaction, Vector2=Vector2, Vector2i=Vector2i, Vector3=Vector3,
     Vector3i=Vector3i, Vector6=Vector6, Matrix3=Matrix3, Quaternion=Quaternion,
     readParamsFromTable=readParamsFromTable, waitIfBatch=waitIfBatch, runningInBatch=runningInBatch,
     utils=utils, geom=geom, pack=pack, plot=plot, qt=qt, timing=timing, ymport=ymport, export=export,

@@ -22,6 +22,7 @@ from granum.engines.base import Engine
 from granum.engines.runner import Runner
 from granum.mathtypes import Vector3, as_vec3
 from granum.yade.bodies import BodyContainer
+from granum.yade.cell import Cell
 from granum.yade.interactions import InteractionContainer
 from granum.yade.materials import MaterialContainer, default_material
 
@@ -148,6 +149,7 @@ class Omega:
         self.interactions = InteractionContainer(self)
         self.forces = ForceContainer(self)
         self.energy = EnergyTracker(self)
+        self.cell = Cell(self)
         self.timingEnabled = False
         self._new_scene(Scene(), MaterialContainer())
         self._frozen = True

@@ -21,14 +21,19 @@ from granum.core.contacts import (
     CONTACTS,
     F_FN,
     F_FS,
+    F_NORMAL,
+    F_R1,
+    F_R2,
     F_TANPHI,
     FLAG_ALIVE,
+    I_CELL,
     I_FLAGS,
     I_ID1,
     I_ID2,
 )
-from granum.mathtypes import Quaternion, Vector3, as_quat_wxyz, as_vec3
+from granum.mathtypes import Matrix3, Quaternion, Vector3, as_quat_wxyz, as_vec3
 from granum.yade.bodies import Body, Box, Facet, Sphere, Wall
+from granum.yade.cell import det3
 from granum.yade.materials import Material, default_material
 from granum.yade.omega import O
 
@@ -36,6 +41,7 @@ __all__ = [
     "sphere", "facet", "wall", "box", "aabbWalls", "defaultMaterial", "randomColor", "PWaveTimeStep",
     "unbalancedForce", "kineticEnergy", "sumForces", "getSpheresVolume", "getSpheresMass", "aabbExtrema",
     "avgNumInteractions", "porosity", "createInteraction", "scalarOnColorScale", "setContactFriction",
+    "getStress", "normalShearStressTensors", "fabricTensor",
 ]
 
 _rng = random.Random()
@@ -237,14 +243,20 @@ def unbalancedForce(useMaxForce=False):
 
 
 def kineticEnergy(findMaxId=False):
-    """Sum of 1/2 m v^2 + 1/2 w.Iw over dynamic bodies [J] (with findMaxId: (E, id of largest))."""
+    """Sum of 1/2 m v^2 + 1/2 w.Iw over dynamic bodies [J] (with findMaxId: (E, id of largest)).
+
+    In a periodic cell v is the fluctuation v - L x around the cell's homogeneous flow.
+    """
     s = _scene()
     b = s.bodies
     n = b.count
     sel = np.nonzero(b.alive[:n] & (b.blocked[:n] != DOF_ALL))[0]
     if sel.size == 0:
         return (0.0, -1) if findMaxId else 0.0
-    e = 0.5 * b.mass[sel] * (b.vel[sel] ** 2).sum(axis=1)
+    v = b.vel[sel]
+    if s.periodic:  # the fluctuation around the homogeneous flow of the cell
+        v = v - b.pos[sel] @ s.cell_velgrad.T
+    e = 0.5 * b.mass[sel] * (v ** 2).sum(axis=1)
     w = b.ang_vel[sel]
     q = b.ori[sel]
     # angular velocity in the principal (local) frame: rotate by the conjugate of ori
@@ -304,11 +316,71 @@ def avgNumInteractions(cutoff=0.0, skipFree=False, considerClumps=False):
 
 
 def porosity(volume=-1):
-    """(V - V_spheres)/V, with V the spheres' bounding box volume unless given [-]."""
-    if volume <= 0:
-        lo, hi = aabbExtrema()
-        volume = float(np.prod(np.asarray(hi._a) - np.asarray(lo._a)))
+    """(V - V_spheres)/V, with V the cell (periodic) or the spheres' bounding box unless given [-]."""
+    volume = _volume(volume)
     return (volume - getSpheresVolume()) / volume
+
+
+def _contact_vectors():
+    """Live contacts: forces on body 2 ``f``, normals ``n``, branches ``l = x1 - x2 - H k`` and radii sums."""
+    s = _scene()
+    C, rows = _live_contacts()
+    f = C.con_f[rows, F_FN:F_FN + 3] + C.con_f[rows, F_FS:F_FS + 3]
+    id1, id2 = C.con_i[rows, I_ID1], C.con_i[rows, I_ID2]
+    shift = C.con_i[rows, I_CELL:I_CELL + 3] @ s.cell_hsize.T if s.periodic else 0.0
+    l = s.bodies.pos[id1] - (s.bodies.pos[id2] + shift)
+    return C, rows, f, C.con_f[rows, F_NORMAL:F_NORMAL + 3], l, C.con_f[rows, F_R1] + C.con_f[rows, F_R2]
+
+
+def _volume(volume):
+    if volume > 0:
+        return float(volume)
+    s = _scene()
+    if s.periodic:
+        return det3(s.cell_hsize)
+    lo, hi = aabbExtrema()
+    return float(np.prod(np.asarray(hi._a) - np.asarray(lo._a)))
+
+
+def getStress(volume=0):
+    """Love-Weber stress (1/V) sum_c f_c (x) l_c [Pa]: f the force on body 2, l = x1 - x2 - H k.
+
+    Compression is negative. V is the cell volume (periodic) or the spheres' bounding
+    box, unless given.
+    """
+    _, _, f, _, l, _ = _contact_vectors()
+    return Matrix3(*(np.einsum("ci,cj->ij", f, l) / _volume(volume)).ravel())
+
+
+def normalShearStressTensors(compressionPositive=False, splitNormalTensor=False, thresholdForce=math.nan):
+    """Normal and shear parts of the contact stress, (1/V) sum (r1 + r2) n (x) F_N and n (x) F_T [Pa].
+
+    Periodic scenes only. As in YADE, compression is positive unless
+    ``compressionPositive`` (sic) is True.
+    """
+    s = _scene()
+    if not s.periodic:
+        raise RuntimeError("normalShearStressTensors: only for periodic scenes (O.periodic)")
+    if splitNormalTensor:
+        raise NotImplementedError("normalShearStressTensors(splitNormalTensor=True) is not implemented yet")
+    C, rows, _, n, _, rsum = _contact_vectors()
+    v = det3(s.cell_hsize)
+    sign = -1.0 if compressionPositive else 1.0
+    fn = C.con_f[rows, F_FN:F_FN + 3]
+    fs = C.con_f[rows, F_FS:F_FS + 3]
+    sn = sign * np.einsum("c,ci,cj->ij", rsum, n, fn) / v + 0.0  # + 0.0: no negative zeros
+    st = sign * np.einsum("c,ci,cj->ij", rsum, n, fs) / v + 0.0
+    return Matrix3(*sn.ravel()), Matrix3(*st.ravel())
+
+
+def fabricTensor(cutoff=0.0, splitTensor=False, thresholdForce=math.nan):
+    """Fabric tensor (1/N_c) sum n (x) n of the contact normals [-]."""
+    if splitTensor:
+        raise NotImplementedError("fabricTensor(splitTensor=True) is not implemented yet")
+    _, rows, _, n, _, _ = _contact_vectors()
+    if rows.size == 0:
+        return Matrix3(0, 0, 0, 0, 0, 0, 0, 0, 0)
+    return Matrix3(*(np.einsum("ci,cj->ij", n, n) / rows.size).ravel())
 
 
 def scalarOnColorScale(x, xmin=0.0, xmax=1.0):

@@ -1,0 +1,173 @@
+"""Broad phase in a periodic cell, with sheared cells and unwrapped positions.
+
+Positions are never wrapped (YADE's convention): a pair across the boundary is
+stored with the integer cell offset k of its second body, whose image is at
+x2 + H k (YADE ``cellDist``). The search works in the cell's fractional
+coordinates s = H^-1 x, where the cell is the unit cube in any shear state:
+
+* each bound (the Cartesian box incl. the Verlet distance) maps to a box of
+  half-widths hw_k = sum_j |H^-1_kj| half_j around s(centre), which contains it;
+* the wrapped centres s - floor(s) are binned on a grid with at least the largest
+  box width per cell, periodic in all three directions;
+* two bodies are a potential pair when their boxes overlap for the nearest image,
+  |d - round(d)| <= hw1 + hw2 on every axis with d = s1 - s2 (wrapped).
+
+A body wider than half the cell in fractional coordinates would meet itself or a
+partner twice; like YADE, this is an error.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from granum._jit import PARALLEL_THRESHOLD, jit, kernel, prange
+from granum.kernels.pairing import may_collide
+
+
+@jit
+def fractional_boxes(S, nb):
+    """Centres (wrapped) ``s``, their cell offsets ``p`` and half-widths ``hw`` in fractional coordinates."""
+    hinv = np.linalg.inv(S.cell_hsize)
+    s = np.zeros((nb, 3))
+    p = np.zeros((nb, 3), np.int64)
+    hw = np.full((nb, 3), -1.0)
+    for i in range(nb):
+        if not S.bound_min[i, 0] <= S.bound_max[i, 0]:
+            continue
+        for k in range(3):
+            acc = 0.0
+            half = 0.0
+            for j in range(3):
+                c = 0.5 * (S.bound_min[i, j] + S.bound_max[i, j])
+                acc += hinv[k, j] * c
+                half += abs(hinv[k, j]) * 0.5 * (S.bound_max[i, j] - S.bound_min[i, j])
+            fl = math.floor(acc)
+            s[i, k] = acc - fl
+            p[i, k] = int(fl)
+            hw[i, k] = half
+    return s, p, hw
+
+
+def _partners(S, nb, s, p, hw, cell, dims, order, start_cell, avoid_self, count, start, out, out_cell):
+    """Pass 1 (``out`` empty): count partners j > i. Pass 2: write them, sorted by j."""
+    fill = out.shape[0] > 0
+    for i in prange(nb):
+        if hw[i, 0] < 0.0:
+            continue
+        n = 0
+        base = start[i] if fill else 0
+        for dx in range(-1, 2):
+            if dims[0] < 3 and dx < 0 or dims[0] == 1 and dx > 0:
+                continue  # fewer than 3 cells: visit each distinct cell once
+            cx = (cell[i, 0] + dx) % dims[0]
+            for dy in range(-1, 2):
+                if dims[1] < 3 and dy < 0 or dims[1] == 1 and dy > 0:
+                    continue
+                cy = (cell[i, 1] + dy) % dims[1]
+                for dz in range(-1, 2):
+                    if dims[2] < 3 and dz < 0 or dims[2] == 1 and dz > 0:
+                        continue
+                    cz = (cell[i, 2] + dz) % dims[2]
+                    key = (cx * dims[1] + cy) * dims[2] + cz
+                    for t in range(start_cell[key], start_cell[key + 1]):
+                        j = order[t]
+                        if j <= i or not may_collide(S, i, j, avoid_self):
+                            continue
+                        hit = True
+                        k0 = 0
+                        k1 = 0
+                        k2 = 0
+                        for a in range(3):
+                            d = s[i, a] - s[j, a]
+                            img = round(d)
+                            if abs(d - img) > hw[i, a] + hw[j, a]:
+                                hit = False
+                                break
+                            if a == 0:
+                                k0 = int(img) + p[i, 0] - p[j, 0]
+                            elif a == 1:
+                                k1 = int(img) + p[i, 1] - p[j, 1]
+                            else:
+                                k2 = int(img) + p[i, 2] - p[j, 2]
+                        if hit:
+                            if fill:
+                                out[base + n, 0] = i
+                                out[base + n, 1] = j
+                                out_cell[base + n, 0] = k0
+                                out_cell[base + n, 1] = k1
+                                out_cell[base + n, 2] = k2
+                            n += 1
+        if fill:  # insertion sort by partner id (rows of out and out_cell together)
+            for u in range(base + 1, base + n):
+                v = out[u, 1]
+                c0 = out_cell[u, 0]
+                c1 = out_cell[u, 1]
+                c2 = out_cell[u, 2]
+                w = u - 1
+                while w >= base and out[w, 1] > v:
+                    out[w + 1, 1] = out[w, 1]
+                    for a in range(3):
+                        out_cell[w + 1, a] = out_cell[w, a]
+                    w -= 1
+                out[w + 1, 1] = v
+                out_cell[w + 1, 0] = c0
+                out_cell[w + 1, 1] = c1
+                out_cell[w + 1, 2] = c2
+        else:
+            count[i] = n
+
+
+partners, partners_par = kernel(_partners)
+
+
+@jit
+def find_pairs_periodic(S, nb, avoid_self):
+    """Pairs (i < j) with overlapping boxes for the nearest image: ``(pairs, start, cells, too_large)``.
+
+    ``too_large`` is the id of a body wider than half the cell (then nothing else is valid), else -1.
+    """
+    s, p, hw = fractional_boxes(S, nb)
+    width = np.zeros(3)
+    for i in range(nb):
+        for a in range(3):
+            if hw[i, a] >= 0.25:
+                return np.zeros((0, 2), np.int32), np.zeros(nb + 1, np.int64), np.zeros((0, 3), np.int32), i
+            width[a] = max(width[a], 2.0 * hw[i, a])
+    dims = np.ones(3, np.int64)
+    for a in range(3):
+        if width[a] > 0.0:
+            dims[a] = max(1, min(int(1.0 / width[a]), 1 << 20))
+    ncells = dims[0] * dims[1] * dims[2]
+    cell = np.zeros((nb, 3), np.int64)
+    keys = np.full(nb, ncells, np.int64)  # unbounded bodies sort last and are never visited
+    for i in range(nb):
+        if hw[i, 0] >= 0.0:
+            for a in range(3):
+                cell[i, a] = min(int(s[i, a] * dims[a]), dims[a] - 1)
+            keys[i] = (cell[i, 0] * dims[1] + cell[i, 1]) * dims[2] + cell[i, 2]
+    order = np.argsort(keys, kind="mergesort").astype(np.int32)
+    start_cell = np.zeros(ncells + 2, np.int64)
+    for i in range(nb):
+        start_cell[keys[i] + 1] += 1
+    for k in range(ncells + 1):
+        start_cell[k + 1] += start_cell[k]
+    count = np.zeros(nb, np.int64)
+    start = np.zeros(nb + 1, np.int64)
+    none = np.zeros((0, 2), np.int32)
+    none_cell = np.zeros((0, 3), np.int32)
+    par = nb >= PARALLEL_THRESHOLD
+    if par:
+        partners_par(S, nb, s, p, hw, cell, dims, order, start_cell, avoid_self, count, start, none, none_cell)
+    else:
+        partners(S, nb, s, p, hw, cell, dims, order, start_cell, avoid_self, count, start, none, none_cell)
+    for i in range(nb):
+        start[i + 1] = start[i] + count[i]
+    out = np.empty((start[nb], 2), np.int32)
+    out_cell = np.empty((start[nb], 3), np.int32)
+    if par:
+        partners_par(S, nb, s, p, hw, cell, dims, order, start_cell, avoid_self, count, start, out, out_cell)
+    else:
+        partners(S, nb, s, p, hw, cell, dims, order, start_cell, avoid_self, count, start, out, out_cell)
+    return out, start, out_cell, -1

@@ -1,0 +1,130 @@
+"""Boundary controllers of the periodic cell: PeriTriaxController's servo.
+
+The controller drives the diagonal of the cell's velocity gradient L so that each
+axis k reaches its goal: a stress sigma_kk (bit k of ``stressMask`` set) or a
+logarithmic strain eps_k = ln F_kk. Per step:
+
+* the stress is the Love-Weber tensor (1/V) sum_c f_c (x) l_c (compression
+  negative) and the stiffness modulus along k is K_k = (1/V) sum_c kn (n_k l_k)^2,
+  the stress change per unit strain of affine contacts;
+* strain axis: the rate that reaches the goal in one step, limited by maxStrainRate;
+* stress axis, ``dynCell``: the cell face of area A_k = V / |H_k| has mass M and
+  moves with v_k = L_kk |H_k| under the net force (goal - sigma_kk) A_k (tension
+  positive outward), with Cundall's damping growDamping on its acceleration;
+* stress axis otherwise: the rate (goal - sigma_kk) / (K_k dt) scaled by
+  (1 - growDamping), i.e. the affine estimate of the rate that reaches the goal;
+* the goal is reached when every stress is within max(absStressTol, relStressTol |goal|),
+  every strain within one step of its goal, and the unbalanced force is below
+  maxUnbalanced; then the engine's Python ``doneHook`` runs after the step.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from granum._jit import jit
+from granum.core.arrays import I_HOOK, I_ITER, I_NBODIES, S_DT
+from granum.core.bodies import DOF_ALL
+from granum.core.contacts import C_CONTACTS, F_FN, F_FS, F_KN, F_NORMAL, FLAG_ALIVE, I_CELL, I_FLAGS, I_ID1, I_ID2
+
+# slots of the controller's output array
+O_STRESS = 0        # 0..2 diagonal stress [Pa]
+O_STRAIN = 3        # 3..5 log strain [-]
+O_RATE = 6          # 6..8 strain rate [1/s]
+O_STIFF = 9         # 9..11 stiffness modulus [Pa]
+O_TENSOR = 12       # 12..20 stress tensor, row by row [Pa]
+O_UNBALANCED = 21   # unbalanced force [-]
+O_SIZE = 22
+
+
+@jit
+def contact_stress(S, C, out):
+    """Write the Love-Weber stress tensor, the stiffness moduli and the unbalanced force into ``out``."""
+    h = S.cell_hsize
+    vol = (h[0, 0] * (h[1, 1] * h[2, 2] - h[1, 2] * h[2, 1]) - h[0, 1] * (h[1, 0] * h[2, 2] - h[1, 2] * h[2, 0])
+           + h[0, 2] * (h[1, 0] * h[2, 1] - h[1, 1] * h[2, 0]))
+    sig = np.zeros((3, 3))
+    stiff = np.zeros(3)
+    fsum = 0.0
+    nc = 0
+    for c in range(C.ctr[C_CONTACTS]):
+        if not C.con_i[c, I_FLAGS] & FLAG_ALIVE:
+            continue
+        i1 = C.con_i[c, I_ID1]
+        i2 = C.con_i[c, I_ID2]
+        f = np.empty(3)
+        br = np.empty(3)
+        for a in range(3):
+            shift = h[a, 0] * C.con_i[c, I_CELL] + h[a, 1] * C.con_i[c, I_CELL + 1] + h[a, 2] * C.con_i[c, I_CELL + 2]
+            f[a] = C.con_f[c, F_FN + a] + C.con_f[c, F_FS + a]
+            br[a] = S.pos[i1, a] - S.pos[i2, a] - shift
+        for a in range(3):
+            for b in range(3):
+                sig[a, b] += f[a] * br[b]
+            stiff[a] += C.con_f[c, F_KN] * (C.con_f[c, F_NORMAL + a] * br[a]) ** 2
+        fsum += math.sqrt(f[0] ** 2 + f[1] ** 2 + f[2] ** 2)
+        nc += 1
+    for a in range(3):
+        out[O_STIFF + a] = stiff[a] / vol
+        out[O_STRESS + a] = sig[a, a] / vol
+        for b in range(3):
+            out[O_TENSOR + 3 * a + b] = sig[a, b] / vol
+    # unbalanced force: mean resultant on free bodies over the mean contact force
+    res = 0.0
+    nfree = 0
+    for i in range(S.iscal[I_NBODIES]):
+        if S.alive[i] and S.blocked[i] != DOF_ALL and (S.clump_id[i] < 0 or S.clump_id[i] == i):
+            res += math.sqrt(S.force[i, 0] ** 2 + S.force[i, 1] ** 2 + S.force[i, 2] ** 2)
+            nfree += 1
+    out[O_UNBALANCED] = (res / nfree) / (fsum / nc) if nc > 0 and nfree > 0 and fsum > 0 else math.nan
+    return vol
+
+
+@jit
+def peri_triax_stage(S, C, P):
+    """Engine stage of PeriTriaxController (see the module docstring for the servo).
+
+    P = (goal (3,), stress_mask, max_rate (3,), max_unbalanced, abs_tol, rel_tol, grow_damping,
+    glob_update, dyn_cell, mass [kg], hook_id, out (O_SIZE,)).
+    """
+    goal, mask, max_rate, max_unb, abs_tol, rel_tol, grow_damp, glob_update, dyn_cell, mass, hook_id, out = P
+    dt = S.scal[S_DT]
+    if glob_update <= 1 or S.iscal[I_ITER] % glob_update == 0 or not out[O_UNBALANCED] == out[O_UNBALANCED]:
+        vol = contact_stress(S, C, out)
+    else:
+        h = S.cell_hsize
+        vol = (h[0, 0] * (h[1, 1] * h[2, 2] - h[1, 2] * h[2, 1]) - h[0, 1] * (h[1, 0] * h[2, 2] - h[1, 2] * h[2, 0])
+               + h[0, 2] * (h[1, 0] * h[2, 1] - h[1, 1] * h[2, 0]))
+    done = out[O_UNBALANCED] < max_unb
+    for k in range(3):
+        out[O_STRAIN + k] = math.log(S.cell_trsf[k, k])
+        size = math.sqrt(S.cell_hsize[0, k] ** 2 + S.cell_hsize[1, k] ** 2 + S.cell_hsize[2, k] ** 2)
+        rate = S.cell_velgrad[k, k]
+        if mask >> k & 1:
+            err = goal[k] - out[O_STRESS + k]
+            if abs(err) > max(abs_tol, rel_tol * abs(goal[k])):
+                done = False
+            if dyn_cell:
+                acc = err * (vol / size) / mass
+                v = rate * size
+                if acc * v > 0.0:
+                    acc *= 1.0 - grow_damp
+                elif acc * v < 0.0:
+                    acc *= 1.0 + grow_damp
+                rate = (v + acc * dt) / size
+            elif out[O_STIFF + k] > 0.0:
+                rate = (1.0 - grow_damp) * err / (out[O_STIFF + k] * dt)
+            else:
+                rate = max_rate[k] if err > 0.0 else -max_rate[k]
+        else:
+            err = goal[k] - out[O_STRAIN + k]
+            if abs(err) > max_rate[k] * dt:
+                done = False
+            rate = err / dt
+        rate = min(max(rate, -max_rate[k]), max_rate[k])
+        S.cell_velgrad[k, k] = rate
+        out[O_RATE + k] = rate
+    if done:
+        S.iscal[I_HOOK] = hook_id

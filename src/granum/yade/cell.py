@@ -1,0 +1,207 @@
+"""``O.cell``: the periodic cell (YADE ``Cell``), a view onto the scene's cell arrays.
+
+The cell is the parallelepiped spanned by the columns of ``hSize`` (H). It deforms
+with the velocity gradient ``velGrad`` (L); ``trsf`` (F) accumulates that deformation
+and may be reset to the identity to start measuring strain from the current state.
+Matrices are returned as copies, as in YADE; assign the whole matrix to change it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from granum.mathtypes import Matrix3, Vector3, as_mat3, as_vec3
+
+
+def det3(m) -> float:
+    """Determinant of a 3x3 matrix by cofactors (exact for diagonal cells, unlike LU)."""
+    return float(m[0, 0] * (m[1, 1] * m[2, 2] - m[1, 2] * m[2, 1]) - m[0, 1] * (m[1, 0] * m[2, 2] - m[1, 2] * m[2, 0])
+                 + m[0, 2] * (m[1, 0] * m[2, 1] - m[1, 1] * m[2, 0]))
+
+
+def _matrix(a) -> Matrix3:
+    return Matrix3(*np.asarray(a, dtype=float).ravel())
+
+
+class Cell:
+    """YADE's periodic cell."""
+
+    __slots__ = ("_omega",)
+
+    def __init__(self, omega):
+        object.__setattr__(self, "_omega", omega)
+
+    def __setattr__(self, name, value):
+        if not hasattr(type(self), name):
+            raise AttributeError(f"Cell has no attribute {name!r}")
+        object.__setattr__(self, name, value)
+
+    @property
+    def _scene(self):
+        return self._omega._scene
+
+    # ---- geometry -------------------------------------------------------------------
+    @property
+    def hSize(self) -> Matrix3:
+        """Base vectors of the cell as columns [m]. Assigning it also sets ``refHSize``."""
+        return _matrix(self._scene.cell_hsize)
+
+    @hSize.setter
+    def hSize(self, value) -> None:
+        h = as_mat3(value)
+        if not np.all(np.isfinite(h)) or not np.linalg.det(h) > 0:
+            raise ValueError(f"Cell.hSize must be finite with a positive volume, got det = {np.linalg.det(h)!r}")
+        s = self._scene
+        s.cell_hsize[:] = h
+        s.cell_ref_hsize[:] = h
+        s.cell_bound_hsize[:] = h
+        s.needs_collider()
+
+    @property
+    def refHSize(self) -> Matrix3:
+        """Reference base vectors (set with hSize or setBox) [m]."""
+        return _matrix(self._scene.cell_ref_hsize)
+
+    @refHSize.setter
+    def refHSize(self, value) -> None:
+        self._scene.cell_ref_hsize[:] = as_mat3(value)
+
+    hSize0 = refHSize
+
+    def setBox(self, x, y=None, z=None) -> None:
+        """Make the cell the box of sizes (x, y, z) [m] with no deformation."""
+        size = as_vec3(x) if y is None else np.array([x, y, z], dtype=float)
+        if not np.all(size > 0):
+            raise ValueError(f"Cell.setBox: sizes must be positive, got {tuple(size)}")
+        self.hSize = np.diag(size)
+        self._scene.cell_trsf[:] = np.eye(3)
+
+    @property
+    def size(self) -> Vector3:
+        """Lengths of the base vectors [m]."""
+        return Vector3(*np.linalg.norm(self._scene.cell_hsize, axis=0))
+
+    @property
+    def refSize(self) -> Vector3:
+        """Lengths of the reference base vectors [m]."""
+        return Vector3(*np.linalg.norm(self._scene.cell_ref_hsize, axis=0))
+
+    @refSize.setter
+    def refSize(self, value) -> None:
+        self.setBox(value)
+
+    @property
+    def volume(self) -> float:
+        """Volume of the cell [m^3]."""
+        return det3(self._scene.cell_hsize)
+
+    # ---- kinematics -------------------------------------------------------------------
+    @property
+    def velGrad(self) -> Matrix3:
+        """Velocity gradient L of the homogeneous deformation [1/s]."""
+        return _matrix(self._scene.cell_velgrad)
+
+    @velGrad.setter
+    def velGrad(self, value) -> None:
+        L = as_mat3(value)
+        if not np.all(np.isfinite(L)):
+            raise ValueError("Cell.velGrad must be finite")
+        self._scene.cell_velgrad[:] = L
+
+    nextVelGrad = velGrad
+
+    @property
+    def prevVelGrad(self) -> Matrix3:
+        """Velocity gradient of the previous step [1/s]."""
+        return _matrix(self._scene.cell_prev_velgrad)
+
+    @property
+    def trsf(self) -> Matrix3:
+        """Deformation gradient F accumulated since it was last reset [-]."""
+        return _matrix(self._scene.cell_trsf)
+
+    @trsf.setter
+    def trsf(self, value) -> None:
+        self._scene.cell_trsf[:] = as_mat3(value)
+
+    @property
+    def homoDeform(self) -> int:
+        """0: bodies do not follow the cell; 1: velocity jumps when velGrad changes; 2: also convection."""
+        from granum.core.arrays import I_HOMO_DEFORM
+
+        return int(self._scene.iscal[I_HOMO_DEFORM])
+
+    @homoDeform.setter
+    def homoDeform(self, value: int) -> None:
+        from granum.core.arrays import I_HOMO_DEFORM
+
+        if value not in (0, 1, 2):
+            raise ValueError(f"Cell.homoDeform must be 0, 1 or 2, got {value!r}")
+        self._scene.iscal[I_HOMO_DEFORM] = value
+
+    # ---- points ------------------------------------------------------------------------
+    def wrap(self, pt) -> Vector3:
+        """The image of ``pt`` inside the cell [m]."""
+        h = self._scene.cell_hsize
+        s = np.linalg.solve(h, as_vec3(pt))
+        return Vector3(*(h @ (s - np.floor(s))))
+
+    wrapPt = wrap
+
+    def shearPt(self, pt) -> Vector3:
+        """Point of the reference (unsheared) cell mapped to the current cell."""
+        return Vector3(*(self._scene.cell_trsf @ as_vec3(pt)))
+
+    def unshearPt(self, pt) -> Vector3:
+        """Point of the current cell mapped back to the reference cell."""
+        return Vector3(*np.linalg.solve(self._scene.cell_trsf, as_vec3(pt)))
+
+    # ---- strain measures of F = trsf ---------------------------------------------------------
+    def getDefGrad(self) -> Matrix3:
+        return self.trsf
+
+    def getSmallStrain(self) -> Matrix3:
+        """(F + F^T)/2 - 1."""
+        F = self._scene.cell_trsf
+        return _matrix(0.5 * (F + F.T) - np.eye(3))
+
+    def getRCauchyGreenDef(self) -> Matrix3:
+        F = self._scene.cell_trsf
+        return _matrix(F.T @ F)
+
+    def getLCauchyGreenDef(self) -> Matrix3:
+        F = self._scene.cell_trsf
+        return _matrix(F @ F.T)
+
+    def getLagrangianStrain(self) -> Matrix3:
+        """(F^T F - 1)/2."""
+        F = self._scene.cell_trsf
+        return _matrix(0.5 * (F.T @ F - np.eye(3)))
+
+    def getEulerianAlmansiStrain(self) -> Matrix3:
+        """(1 - (F F^T)^-1)/2."""
+        F = self._scene.cell_trsf
+        return _matrix(0.5 * (np.eye(3) - np.linalg.inv(F @ F.T)))
+
+    def getPolarDecOfDefGrad(self):
+        """``(R, U)`` with F = R U, R a rotation and U symmetric positive."""
+        u, sv, vt = np.linalg.svd(self._scene.cell_trsf)
+        return _matrix(u @ vt), _matrix(vt.T @ np.diag(sv) @ vt)
+
+    def getRotation(self) -> Matrix3:
+        return self.getPolarDecOfDefGrad()[0]
+
+    def getRightStretch(self) -> Matrix3:
+        return self.getPolarDecOfDefGrad()[1]
+
+    def getLeftStretch(self) -> Matrix3:
+        R, U = (np.asarray(m) for m in self.getPolarDecOfDefGrad())
+        return _matrix(R @ U @ R.T)
+
+    def getSpin(self) -> Vector3:
+        """Rotation rate of the velocity gradient: the axial vector of (L - L^T)/2 [rad/s]."""
+        w = 0.5 * (self._scene.cell_velgrad - self._scene.cell_velgrad.T)
+        return Vector3(w[2, 1], w[0, 2], w[1, 0])
+
+    def __repr__(self):
+        return f"<Cell instance at {hex(id(self))}>"
