@@ -27,7 +27,8 @@ from granum.core.arrays import (
 )
 from granum.core.bodies import ShapeKind, new_body_table
 from granum.core.contacts import C_COLLIDE, new_contact_arrays, resize_for_bodies
-from granum.core.shapes import new_shape_tables
+from granum.core.shapes import CLUMP_MEMBER_COLUMNS, new_shape_tables
+from granum.core.table import Table
 from granum.physics import registry
 
 
@@ -42,6 +43,7 @@ class BodyStore:
     def __init__(self, capacity: int = 8):
         self.bodies = new_body_table(capacity)
         self.shapes = new_shape_tables(capacity)
+        self.clump_members = Table(CLUMP_MEMBER_COLUMNS, capacity)
         self.materials: list = []
 
     def material_index(self, material) -> int:
@@ -156,6 +158,7 @@ class Scene(BodyStore):
     def clear_bodies(self) -> None:
         """Remove all bodies and interactions; keep engines, materials and the clock."""
         self.bodies.clear()
+        self.clump_members.clear()
         for t in self.shapes.values():
             t.clear()
         self.contacts = new_contact_arrays(0)
@@ -193,6 +196,6 @@ class Scene(BodyStore):
             values.update({f"{kind.name.lower()}_{c.name}": getattr(table, c.name) for c in table.columns})
         values.update(mat_kind=mat_kind, mat=mat, cell_hsize=self.cell_hsize, cell_velgrad=self.cell_velgrad,
                       cell_prev_velgrad=self.cell_prev_velgrad, cell_trsf=self.cell_trsf,
-                      cell_bound_hsize=self.cell_bound_hsize,
+                      cell_bound_hsize=self.cell_bound_hsize, clump_members=self.clump_members.id,
                       scal=self.scal, iscal=self.iscal, energy=self.energy, energy_set=self.energy_set)
         return SCENE.to_record([values[n] for n in SCENE.names])

@@ -30,8 +30,14 @@ SHAPE_COLUMNS = {
     ShapeKind.BOX: (
         Column("extents", (3,), "f8", 0.0, "Half-sizes along the local axes [m], (B, 3)."),
     ),
-    ShapeKind.CLUMP: (),
+    ShapeKind.CLUMP: (
+        Column("member_first", (), "i4", 0, "First entry of the clump's members in the clump member table, (K,)."),
+        Column("member_count", (), "i4", 0, "Number of members, (K,)."),
+    ),
 }
+
+#: Member ids of all clumps, each clump's members contiguous (see the CLUMP shape table).
+CLUMP_MEMBER_COLUMNS = (Column("id", (), "i4", -1, "Body id of a clump member, (M,)."),)
 
 
 def new_shape_tables(capacity: int = 8) -> dict[ShapeKind, Table]:

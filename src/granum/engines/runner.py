@@ -96,7 +96,8 @@ class Runner:
         """Errors that would otherwise surface as NaN inside the kernels."""
         b = self.scene.bodies
         n = b.count
-        free = b.alive[:n] & (b.blocked[:n] & 0b111 != 0b111) & (b.clump_id[:n] < 0)
+        standalone = (b.clump_id[:n] < 0) | (b.clump_id[:n] == np.arange(n))  # clump members move with the clump
+        free = b.alive[:n] & (b.blocked[:n] & 0b111 != 0b111) & standalone
         bad = np.nonzero(free & ~(b.mass[:n] > 0))[0]
         if bad.size:
             i = int(bad[0])

@@ -18,7 +18,10 @@ Choices where the article is ambiguous:
   group of the iteration and receive their impulses *together*: every impulse is computed from
   the velocities at the start of the iteration, then all are applied (a face resting on a face
   stays symmetric: no spurious rotation from the order of application). The release phase
-  groups ties of W_rel the same way, with the article's factor alpha0 (no N).
+  groups ties of W_rel the same way, with the article's factor alpha0 (no N). In a group of N
+  pairs the static friction impulse of each pair cancels 1/N of its tangential velocity, so that
+  the group cancels it together as one pair does alone (N pairs of one body each cancelling all
+  of it at once would overshoot N-fold and amplify round-off into spurious sliding).
 * Work bookkeeping: 1/2 (v_n^(k) + v_n^(k+1)) J_n uses the normal velocity *after* the whole
   group (the article's first, trapezoidal form). For one pair this is the article's
   1/2 (2 v_n + dv_n) J_n; for a group it makes the sum of the works equal the change of kinetic
@@ -95,11 +98,12 @@ def normal_stiffness(c, ba, bb, ra, rb, nrm, invm, invI):
 
 
 @jit
-def trial_impulse(c, v, dvn, mu, ba, bb, ra, rb, nrm, invm, invI):
+def trial_impulse(c, v, dvn, mu, share, ba, bb, ra, rb, nrm, invm, invI):
     """Impulse on A (on B: its opposite) giving the normal velocity change ``dvn`` (article §6.3-6.4).
 
     ``v`` the current relative velocity of the pair. Returns ``(J, J_n)``: the impulse (3-tuple)
-    [N s] and its normal component. Static friction cancels the tangential velocity when
+    [N s] and its normal component. Static friction cancels the fraction ``share`` (1/N in a
+    group of N pairs, see [A6]) of the tangential velocity, J_t = share v_t / (t.K.t), when
     mu J_n >= J_t; otherwise the sliding impulse J_n (n - mu t).
     """
     a = ba[c]
@@ -116,7 +120,7 @@ def trial_impulse(c, v, dvn, mu, ba, bb, ra, rb, nrm, invm, invI):
         return scale(n, jn), jn
     t = scale(vt_vec, 1.0 / vt)
     Kt = k_apply(invm[a], invI[a], r_a, invm[b], invI[b], r_b, t)
-    jt = vt / dot(t, Kt)
+    jt = share * vt / dot(t, Kt)
     if mu * jn >= jt:  # static: cancel the tangential velocity of the pair
         return sub(scale(n, jn), scale(t, jt)), jn
     ks = kn - mu * dot(n, Kt)  # n.K.(n - mu t), K symmetric
@@ -163,7 +167,7 @@ def _group_step(ng, group, dvn_mode, alpha0, mu, Wstore, sign, ba, bb, ra, rb, n
             # dvbar = -v_n + sqrt(v_n^2 + 2 W kappa), in the form without cancellation for v_n > 0
             dvbar = w2 / (vn + root) if vn > 0.0 else root - vn
             dvn = dvbar / alpha0
-        J, jn = trial_impulse(c, v, dvn, mu, ba, bb, ra, rb, nrm, invm, invI)
+        J, jn = trial_impulse(c, v, dvn, mu, 1.0 / ng, ba, bb, ra, rb, nrm, invm, invI)
         for k in range(3):
             Jg[g, k] = J[k]
         jng[g] = jn

@@ -35,9 +35,22 @@ from granum.core.arrays import (
     I_TRACK_ENERGY,
     S_DT,
 )
+from granum.core.bodies import ShapeKind
 from granum.core.contacts import C_ERR_A, C_STATUS, STATUS_NONFINITE
 from granum.kernels.collider import BLOCK
-from granum.physics.vec import load3, load4, matvec, quat_mul, quat_normalized, quat_rotate, quat_rotate_inv, scale, sub
+from granum.physics.vec import (
+    add,
+    cross,
+    load3,
+    load4,
+    matvec,
+    quat_mul,
+    quat_normalized,
+    quat_rotate,
+    quat_rotate_inv,
+    scale,
+    sub,
+)
 
 #: A body faster than this is taken as a numerical explosion [m/s].
 EXPLODING_SPEED = 1e8
@@ -91,6 +104,44 @@ def integrate_aspherical(i, S, torque, dt):
         S.ori[i, k] = q_new[k]
 
 
+@jit
+def clump_gather(i, S):
+    """Add the forces and torques of clump ``i``'s members to the clump (3.5,22).
+
+    F_c = sum F_m, T_c = sum (T_m + (x_m - x_c) x F_m).
+    """
+    row = S.shape_row[i]
+    xc = load3(S.pos, i)
+    for t in range(S.clump_member_first[row], S.clump_member_first[row] + S.clump_member_count[row]):
+        m = S.clump_members[t]
+        f = load3(S.force, m)
+        arm_t = cross(sub(load3(S.pos, m), xc), f)
+        for k in range(3):
+            S.force[i, k] += f[k]
+            S.torque[i, k] += S.torque[m, k] + arm_t[k]
+
+
+@jit
+def clump_place(i, S):
+    """Move clump ``i``'s members rigidly with the clump: position, orientation, velocities."""
+    row = S.shape_row[i]
+    q = load4(S.ori, i)
+    xc = load3(S.pos, i)
+    v = load3(S.vel, i)
+    w = load3(S.ang_vel, i)
+    for t in range(S.clump_member_first[row], S.clump_member_first[row] + S.clump_member_count[row]):
+        m = S.clump_members[t]
+        arm = quat_rotate(q, load3(S.clump_rel_pos, m))
+        vm = add(v, cross(w, arm))
+        qm = quat_mul(q, load4(S.clump_rel_ori, m))
+        for k in range(3):
+            S.pos[m, k] = xc[k] + arm[k]
+            S.vel[m, k] = vm[k]
+            S.ang_vel[m, k] = w[k]
+        for k in range(4):
+            S.ori[m, k] = qm[k]
+
+
 def _newton_blocks(S, nb, gravity, damping, damp_gravity, sums, bad):
     dt = S.scal[S_DT]
     periodic = S.iscal[I_PERIODIC] != 0
@@ -102,6 +153,9 @@ def _newton_blocks(S, nb, gravity, damping, damp_gravity, sums, bad):
         for i in range(b * BLOCK, min(nb, (b + 1) * BLOCK)):
             if not S.alive[i] or S.clump_id[i] >= 0 and S.clump_id[i] != i:
                 continue
+            clump = S.shape_kind[i] == ShapeKind.CLUMP
+            if clump:
+                clump_gather(i, S)
             blocked = S.blocked[i]
             m = S.mass[i]
             damped = S.is_damped[i] and damping != 0.0
@@ -165,6 +219,8 @@ def _newton_blocks(S, nb, gravity, damping, damp_gravity, sums, bad):
                     q = quat_normalized(quat_mul(dq, load4(S.ori, i)))
                     for k in range(4):
                         S.ori[i, k] = q[k]
+            if clump:
+                clump_place(i, S)
             speed2 = S.vel[i, 0] ** 2 + S.vel[i, 1] ** 2 + S.vel[i, 2] ** 2
             ok = speed2 < EXPLODING_SPEED ** 2
             for k in range(3):

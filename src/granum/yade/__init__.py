@@ -28,7 +28,7 @@ from granum.engines.runner import SimulationError
 from granum.mathtypes import Matrix3, Quaternion, Vector2, Vector2i, Vector3, Vector3i, Vector6
 from granum.yade import export, geom, pack, plot, qt, timing, utils, ymport
 from granum.yade.batch import readParamsFromTable, runningInBatch, waitIfBatch
-from granum.yade.bodies import Aabb, Body, Box, Facet, Shape, Sphere, State, Wall
+from granum.yade.bodies import Aabb, Body, Box, Clump, Facet, Shape, Sphere, State, Wall
 from granum.yade.cell import Cell
 from granum.yade.interactions import GEOM_VIEWS as _GEOMS
 from granum.yade.interactions import PHYS_VIEWS as _PHYSS
@@ -67,7 +67,8 @@ _namespace.update(
     PyRunner=PyRunner, PeriTriaxController=PeriTriaxController,
     ForceEngine=ForceEngine, TranslationEngine=TranslationEngine, RotationEngine=RotationEngine,
     SimulationError=SimulationError, Body=Body, State=State, Shape=Shape, Sphere=Sphere, Facet=Facet, Wall=Wall,
-    Box=Box, Aabb=Aabb, Cell=Cell, Interaction=Interaction, Vector2=Vector2, Vector2i=Vector2i, Vector3=Vector3,
+    Box=Box, Clump=Clump, Aabb=Aabb, Cell=Cell, Interaction=Interaction, Vector2=Vector2, Vector2i=Vector2i,
+    Vector3=Vector3,
     Vector3i=Vector3i, Vector6=Vector6, Matrix3=Matrix3, Quaternion=Quaternion,
     readParamsFromTable=readParamsFromTable, waitIfBatch=waitIfBatch, runningInBatch=runningInBatch,
     utils=utils, geom=geom, pack=pack, plot=plot, qt=qt, timing=timing, ymport=ymport, export=export,

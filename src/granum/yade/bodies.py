@@ -522,7 +522,31 @@ class Box(Shape):
         self._body._touch()
 
 
-SHAPE_CLASSES = {ShapeKind.SPHERE: Sphere, ShapeKind.FACET: Facet, ShapeKind.WALL: Wall, ShapeKind.BOX: Box}
+class Clump(Shape):
+    """Shape of a clump body: a rigid aggregate of member bodies (see ``O.bodies.clump``)."""
+
+    __slots__ = ()
+    kind = ShapeKind.CLUMP
+
+    @property
+    def members(self) -> dict:
+        """Member ids and their offsets in the clump frame: ``{id: (Vector3, Quaternion)}``."""
+        from granum.yade.clumps import clump_members
+
+        b = self._body
+        if not b._attached():
+            return {}
+        bt = b._store.bodies
+        return {i: (Vector3(*bt.clump_rel_pos[i]), Quaternion(*bt.clump_rel_ori[i]))
+                for i in clump_members(b._store, b._row)}
+
+    @property
+    def ids(self) -> list:
+        return list(self.members)
+
+
+SHAPE_CLASSES = {ShapeKind.SPHERE: Sphere, ShapeKind.FACET: Facet, ShapeKind.WALL: Wall, ShapeKind.BOX: Box,
+                 ShapeKind.CLUMP: Clump}
 
 
 class BodyContainer:
@@ -610,6 +634,21 @@ class BodyContainer:
                 end_contact(C, c)
         scene.needs_collider()
         return True
+
+    def clump(self, ids, discretization: int = 0) -> int:
+        """Make the listed bodies one rigid clump; return the id of the new clump body.
+
+        Mass, centre and principal inertia come from the members (parallel-axis sum, or a
+        grid integration of overlapping spheres with ``discretization`` > 0).
+        """
+        from granum.yade.clumps import make_clump
+
+        return make_clump(self._scene, [self._check(i) for i in ids], int(discretization))
+
+    def appendClumped(self, bodies, discretization: int = 0):
+        """Append ``bodies`` and clump them: ``(clumpId, [member ids])``."""
+        ids = self.append(list(bodies))
+        return self.clump(ids, discretization), ids
 
     def clear(self) -> None:
         """Remove all bodies and interactions."""

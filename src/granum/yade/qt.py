@@ -1,15 +1,27 @@
-"""YADE's ``yade.qt`` without a screen: every call is accepted and does nothing.
+"""YADE's ``yade.qt`` without a screen: views are cameras for pictures, windows do nothing.
 
-3D views, controllers and renderers need a display; granum runs headless, so these
-names exist for scripts that call them and have no effect (off-screen snapshots are
-a separate feature).
+* ``qt.View()`` opens a 3D "view": a camera framing the scene (see
+  :class:`granum.yade.snapshot.View`), listed by ``qt.views()``; ``v.saveSnapshot('a.png')``
+  renders a picture off-screen.
+* ``qt.SnapshotEngine(fileBase='snap-', iterPeriod=100)`` saves pictures periodically, named as
+  YADE names them (``snap-00000.png``...).
+* ``qt.Renderer()`` returns the display options (``shape``, ``intrPhys``, ``bgColor``...), which
+  the pictures honour.
+* ``qt.Controller()`` and the other windows are accepted and do nothing.
 """
 
 from __future__ import annotations
 
+from granum.yade.snapshot import RENDERER, SnapshotEngine
+from granum.yade.snapshot import View as GLViewer
+
+__all__ = ["Controller", "GLViewer", "Inspector", "Renderer", "SnapshotEngine", "View", "close", "views"]
+
+_views: list = []
+
 
 class _Inert:
-    """Accepts any attribute, call or assignment."""
+    """Accepts any attribute, call or assignment (windows that cannot open without a screen)."""
 
     def __init__(self, *args, **kw):
         self.__dict__.update(kw)
@@ -21,9 +33,27 @@ class _Inert:
         return _Inert()
 
 
+def _scene():
+    from granum.yade.omega import O
+
+    return O._scene
+
+
 def View(*args, **kw):
-    """Open a 3D view (no effect without a screen)."""
-    return _Inert()
+    """Open a 3D view: a camera framing the current scene, used by snapshots; return it."""
+    v = GLViewer(_scene)
+    _views.append(v)
+    return v
+
+
+def views() -> list:
+    """The open views."""
+    return list(_views)
+
+
+def close() -> None:
+    """Close all views."""
+    _views.clear()
 
 
 def Controller(*args, **kw):
@@ -31,17 +61,11 @@ def Controller(*args, **kw):
     return _Inert()
 
 
+def Inspector(*args, **kw):
+    """Open the inspector window (no effect without a screen)."""
+    return _Inert()
+
+
 def Renderer(*args, **kw):
-    """Rendering options (accepted, unused without a screen)."""
-    return _Renderer
-
-
-def views():
-    return []
-
-
-def close():
-    """Close all views."""
-
-
-_Renderer = _Inert()
+    """The display options shared by all views (YADE's ``OpenGLRenderer``)."""
+    return RENDERER

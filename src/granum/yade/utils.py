@@ -223,16 +223,23 @@ def _gravity():
     return np.zeros(3)
 
 
+def _not_member(b, n):
+    """Bodies that move on their own: standalone bodies and clumps, not clump members."""
+    ids = np.arange(n)
+    return (b.clump_id[:n] < 0) | (b.clump_id[:n] == ids)
+
+
 def unbalancedForce(useMaxForce=False):
     """Mean (or maximum) resultant force on dynamic bodies over the mean contact force.
 
-    The resultant includes gravity from NewtonIntegrator; tends to 0 at equilibrium.
+    The resultant includes gravity from NewtonIntegrator; clumps count with the sum of
+    their members' forces, members do not count on their own. Tends to 0 at equilibrium.
     NaN when there is no contact.
     """
     s = _scene()
     b = s.bodies
     n = b.count
-    dyn = np.nonzero(b.alive[:n] & (b.blocked[:n] != DOF_ALL) & (b.clump_id[:n] < 0))[0]
+    dyn = np.nonzero(b.alive[:n] & (b.blocked[:n] != DOF_ALL) & _not_member(b, n))[0]
     C, rows = _live_contacts()
     if rows.size == 0 or dyn.size == 0:
         return math.nan
@@ -250,7 +257,7 @@ def kineticEnergy(findMaxId=False):
     s = _scene()
     b = s.bodies
     n = b.count
-    sel = np.nonzero(b.alive[:n] & (b.blocked[:n] != DOF_ALL))[0]
+    sel = np.nonzero(b.alive[:n] & (b.blocked[:n] != DOF_ALL) & _not_member(b, n))[0]
     if sel.size == 0:
         return (0.0, -1) if findMaxId else 0.0
     v = b.vel[sel]
