@@ -64,22 +64,21 @@ class Canvas:
             ix, iy = np.arange(gw), np.arange(gh)
             for s in range(0, group.size, step):
                 g = group[s:s + step]
-                px = ax0[g][:, None, None] + ix[None, None, :]
-                py = ay0[g][:, None, None] + iy[None, :, None]
+                shape = (g.size, gh, gw)
+                px = np.broadcast_to(ax0[g][:, None, None] + ix[None, None, :], shape)
+                py = np.broadcast_to(ay0[g][:, None, None] + iy[None, :, None], shape)
                 inside = (px <= ax1[g][:, None, None]) & (py <= ay1[g][:, None, None])
-                prim = np.broadcast_to(g[:, None, None], inside.shape)
+                prim = np.broadcast_to(g[:, None, None], shape)
                 yield prim[inside], px[inside], py[inside]
 
     def _resolve(self, pix: np.ndarray, z: np.ndarray) -> np.ndarray:
-        """Indices of the fragments nearer than everything drawn so far (one per pixel); updates depths."""
-        order = np.lexsort((z, pix))
-        p = pix[order]
-        first = np.ones(p.size, bool)
-        first[1:] = p[1:] != p[:-1]
-        win = order[first]
-        win = win[z[win] < self.depth[pix[win]]]
-        self.depth[pix[win]] = z[win]
-        return win
+        """Indices of the fragments that are the nearest at their pixel so far; updates the depths.
+
+        ``minimum.at`` reduces all fragments of a pixel in one pass (no sort); a fragment wins
+        where its depth is the new minimum. Exact ties (rare) may both write; either is correct.
+        """
+        np.minimum.at(self.depth, pix, z)
+        return np.nonzero(z == self.depth[pix])[0]
 
     # ---- primitives ----------------------------------------------------------------------------
     def spheres(self, cx, cy, rpx, depth, radius, color) -> None:

@@ -10,7 +10,9 @@ run by the ``granum`` launcher get it automatically, and there ``import yade`` a
 from __future__ import annotations
 
 import math as _math
+import sys as _sys
 
+from granum import idem
 from granum.engines.base import Engine, GlobalEngine, PartialEngine, PeriodicEngine
 from granum.engines.controllers import PeriTriaxController
 from granum.engines.functors import CLASSES as _FUNCTORS
@@ -25,6 +27,7 @@ from granum.engines.pipeline import (
 )
 from granum.engines.pyrunner import PyRunner
 from granum.engines.runner import SimulationError
+from granum.idem import IDEMSolver
 from granum.mathtypes import Matrix3, Quaternion, Vector2, Vector2i, Vector3, Vector3i, Vector6
 from granum.yade import export, geom, pack, plot, qt, timing, utils, ymport
 from granum.yade.batch import readParamsFromTable, runningInBatch, waitIfBatch
@@ -35,8 +38,11 @@ from granum.yade.interactions import PHYS_VIEWS as _PHYSS
 from granum.yade.interactions import Interaction
 from granum.yade.materials import CLASSES as _MATERIALS
 from granum.yade.omega import O, Omega
+from granum.yade.snapshot import SnapshotEngine
 from granum.yade.utils import *  # noqa: F403
 from granum.yade.utils import __all__ as _utils_all
+from granum.yade.video import makeVideo
+from granum.yade.vtk import VTKRecorder
 
 
 class _GlMeta(type):
@@ -73,6 +79,8 @@ _namespace.update(
     readParamsFromTable=readParamsFromTable, waitIfBatch=waitIfBatch, runningInBatch=runningInBatch,
     utils=utils, geom=geom, pack=pack, plot=plot, qt=qt, timing=timing, ymport=ymport, export=export,
 )
+_namespace.update(VTKRecorder=VTKRecorder, SnapshotEngine=SnapshotEngine, makeVideo=makeVideo,
+                  idem=idem, IDEMSolver=IDEMSolver, yade=_sys.modules[__name__])
 globals().update(_namespace)
 __all__ = sorted(_namespace)
 

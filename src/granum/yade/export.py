@@ -1,7 +1,7 @@
 """YADE's ``yade.export``: the scene to text and legacy VTK files.
 
 * :func:`text`, :func:`textExt` -- sphere centres and radii as text (``#format x_y_z_r`` and
-  tab-separated rows), readable back with ``ymport.text``.
+  tab-separated rows), the format YADE's ``ymport.text`` reads.
 * :class:`VTKExporter` -- spheres, facets, interactions, contact points and the periodic cell as
   legacy ASCII ``.vtk`` files named ``<baseName>-<part>-<8-digit number>.vtk``, with extra data
   given as Python expressions evaluated per body (``b``) or interaction (``i``), as in YADE.

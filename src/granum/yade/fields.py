@@ -52,6 +52,19 @@ def contact_shift(scene, rows: np.ndarray) -> np.ndarray:
     return cell @ np.asarray(scene.cell_hsize, float).T
 
 
+def wrap_shift(scene, ids: np.ndarray) -> np.ndarray:
+    """(M, 3) shift bringing the centres of bodies ``ids`` into the periodic cell [m]; zero when aperiodic.
+
+    YADE keeps unwrapped positions (and so do the output files) but draws bodies inside the cell.
+    """
+    pos = scene.bodies.pos[ids]
+    if not scene.periodic:
+        return np.zeros_like(pos)
+    h = np.asarray(scene.cell_hsize, float)
+    frac = np.linalg.solve(h, pos.T).T
+    return -np.floor(frac) @ h.T
+
+
 def coord_numbers(scene) -> np.ndarray:
     """(N,) number of live contacts of each body (YADE's ``coordNumber``)."""
     id1, id2 = contact_ids(scene, live_contact_rows(scene))

@@ -9,7 +9,9 @@ image files. granum has no window, so :class:`View` keeps the camera of such a v
 * with ``Renderer().intrPhys``, contacts as cylinders between the body centres, their width and
   colour (blue to red) scaled by the normal force (force chains); ``intrWire`` draws thin lines;
 * the periodic cell's edges in ``Renderer().cellColor``; the iteration and time in a corner
-  (``View.timeDisp`` letters ``i``, ``v``, ``r`` as in YADE).
+  (``View.timeDisp`` letters ``i``, ``v``, ``r`` as in YADE);
+* in a periodic scene, bodies inside the cell (as YADE draws them; positions stay unwrapped in
+  the scene and in output files), contacts from body 1 to the periodic image of body 2.
 
 The default camera is YADE's: looking down the z axis (``viewDir = (0, 0, -1)``, ``upVector =
 (0, 1, 0)``), perspective with a 45 degree field of view, framing the bounding box of the body
@@ -244,11 +246,11 @@ def _draw_wire_edges(canvas, view, ends: np.ndarray, color: np.ndarray) -> None:
 def _draw_spheres(canvas, scene, view, ids: np.ndarray, wire: bool) -> None:
     b = scene.bodies
     radius = fields.sphere_radii(scene, ids)
-    xy, z, scale = view.project(b.pos[ids])
+    xy, z, scale = view.project(b.pos[ids] + fields.wrap_shift(scene, ids))
     ok = z - radius > view.near()
     solid = ok & ~(b.wire[ids] | wire)
-    canvas.spheres(xy[solid, 0], xy[solid, 1], radius[solid] * scale[solid], z[solid], radius[solid],
-                   b.color[ids][solid])
+    rpx = np.maximum(radius * scale, 0.6)  # spheres smaller than a pixel still show as one pixel
+    canvas.spheres(xy[solid, 0], xy[solid, 1], rpx[solid], z[solid], radius[solid], b.color[ids][solid])
     ring = np.nonzero(ok & (b.wire[ids] | wire))[0]
     if ring.size:  # outline: a 24-sided polygon around the silhouette, at the centre's depth
         ang = np.linspace(0, 2 * np.pi, 25)
@@ -280,8 +282,9 @@ def _draw_contacts(canvas, scene, view, renderer) -> None:
     if rows.size == 0:
         return
     id1, id2 = fields.contact_ids(scene, rows)
-    p1 = scene.bodies.pos[id1]
-    p2 = scene.bodies.pos[id2] + fields.contact_shift(scene, rows)
+    shift = fields.wrap_shift(scene, id1)  # body 1 drawn inside the periodic cell, body 2 next to it
+    p1 = scene.bodies.pos[id1] + shift
+    p2 = scene.bodies.pos[id2] + fields.contact_shift(scene, rows) + shift
     fn = np.linalg.norm(scene.contacts.con_f[rows, F_FN:F_FN + 3], axis=1)
     fmax = fn.max() if fn.size and fn.max() > 0 else 1.0
     rel = fn / fmax
@@ -313,13 +316,13 @@ def render(scene, view: View, renderer: Renderer = RENDERER) -> np.ndarray:
 
         _draw_spheres(canvas, scene, view, of_kind(ShapeKind.SPHERE), renderer.wire)
         facets = of_kind(ShapeKind.FACET)
-        verts = fields.facet_vertices(scene, facets)
+        verts = fields.facet_vertices(scene, facets) + fields.wrap_shift(scene, facets)[:, None, :]
         wire = b.wire[facets] | renderer.wire
         _draw_polygons(canvas, view, verts[~wire], b.color[facets][~wire])
         edges = np.stack([verts[wire], np.roll(verts[wire], -1, axis=1)], axis=2).reshape(-1, 2, 3)
         _draw_wire_edges(canvas, view, edges, np.repeat(b.color[facets][wire], 3, axis=0))
         boxes = of_kind(ShapeKind.BOX)
-        faces = fields.box_faces(scene, boxes)  # (B, 6, 4, 3)
+        faces = fields.box_faces(scene, boxes) + fields.wrap_shift(scene, boxes)[:, None, None, :]  # (B, 6, 4, 3)
         wire = b.wire[boxes] | renderer.wire
         quads = faces[~wire]
         tris = np.concatenate([quads[:, :, [0, 1, 2]], quads[:, :, [0, 2, 3]]], axis=1).reshape(-1, 3, 3)

@@ -34,14 +34,17 @@ from granum.core.contacts import (
 from granum.mathtypes import Matrix3, Quaternion, Vector3, as_quat_wxyz, as_vec3
 from granum.yade.bodies import Body, Box, Facet, Sphere, Wall
 from granum.yade.cell import det3
+from granum.yade.clump_tools import clumpTemplate
 from granum.yade.materials import Material, default_material
 from granum.yade.omega import O
+from granum.yade.video import makeVideo
 
 __all__ = [
+    "clumpTemplate",
     "sphere", "facet", "wall", "box", "aabbWalls", "defaultMaterial", "randomColor", "PWaveTimeStep",
     "unbalancedForce", "kineticEnergy", "sumForces", "getSpheresVolume", "getSpheresMass", "aabbExtrema",
     "avgNumInteractions", "porosity", "createInteraction", "scalarOnColorScale", "setContactFriction",
-    "getStress", "normalShearStressTensors", "fabricTensor",
+    "getStress", "normalShearStressTensors", "fabricTensor", "makeVideo",
 ]
 
 _rng = random.Random()
