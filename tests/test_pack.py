@@ -311,8 +311,6 @@ def test_large_cloud_is_fast():
 def test_make_cloud_argument_errors():
     with pytest.raises(ValueError):
         pack.SpherePack().makeCloud((0, 0, 0), (1, 1, 1))  # neither rMean, num nor a PSD
-    with pytest.raises(NotImplementedError):
-        pack.SpherePack().makeClumpCloud((0, 0, 0), (1, 1, 1), [pack.SpherePack([((0, 0, 0), 0.1)])])
 
 
 # ----------------------------------------------------------------------------- SpherePack API

@@ -1,4 +1,6 @@
-"""Compiled kernels behind :mod:`granum.yade.pack`: random sequential insertion of spheres.
+"""Compiled kernels behind :mod:`granum.yade.pack`: random sequential insertion of spheres
+(``rsa_fill``, for ``makeCloud``) and of rigid clumps of spheres (``clump_fill``, for
+``makeClumpCloud``).
 
 ``rsa_fill`` places spheres one after another at uniformly random positions, rejecting a
 position when the new sphere would overlap one already placed, and gives up the whole
@@ -12,6 +14,11 @@ each test is therefore O(1) instead of O(N), and 10^5 spheres take seconds. The 
 linked list (``head[cell]`` -> sphere -> ``nxt[sphere]`` -> ...), which needs no resizing
 when spheres are added.
 
+``clump_fill`` inserts whole clumps the same way: a clump is a template (member centres
+relative to a reference point, and radii) at a random point with a uniformly random
+orientation, rejected when one of its members overlaps a sphere already placed. It uses
+the same grid; the members of a clump enter it only once the whole clump is accepted.
+
 Radii come either from a given array (deterministic sizes, placed in the given order) or
 are drawn one per sphere from a piecewise inverse cumulative distribution (see
 :func:`inverse_cdf`). All random numbers come from NumPy's generator *inside* the compiled
@@ -24,7 +31,7 @@ import numpy as np
 
 from granum._jit import jit
 
-__all__ = ["inverse_cdf", "inverse_cdf_many", "psd_table", "rsa_fill"]
+__all__ = ["clump_fill", "inverse_cdf", "inverse_cdf_many", "psd_table", "rsa_fill"]
 
 #: Upper bound on the number of grid cells (memory: 8 bytes each).
 _MAX_CELLS = 1 << 22
@@ -84,6 +91,30 @@ def psd_table(psdSizes, psdCumm, distributeMass):
             w = np.where(d1 > d0, dm / (d1 - d0) * 0.5 * (d0 ** -2.0 - d1 ** -2.0), dm / d0 ** 3)
         f = np.concatenate([[0.0], np.cumsum(w)]) / np.sum(w)
     return f, 0.5 * d
+
+
+@jit
+def _grid_dims(length, rmax):
+    """Grid over a box of size ``length`` (3,) for spheres of radius at most ``rmax``.
+
+    Cells are at least one largest diameter wide, so a sphere can only touch spheres of
+    its own and the 26 neighbouring cells; at most 1024 cells per axis and
+    ``_MAX_CELLS`` in all. Returns ``(nc (3,) int64 cell counts, inv_w (3,) cells per
+    unit length)``; an axis of zero length has one cell and ``inv_w = 0``.
+    """
+    width = max(2.0 * rmax, 1e-300)
+    nc = np.ones(3, np.int64)
+    inv_w = np.zeros(3)
+    for d in range(3):
+        if length[d] > 0.0:
+            nc[d] = max(1, min(int(length[d] / width), 1 << 10))
+    while nc[0] * nc[1] * nc[2] > _MAX_CELLS:
+        for d in range(3):
+            nc[d] = max(1, nc[d] // 2)
+    for d in range(3):
+        if length[d] > 0.0:
+            inv_w[d] = nc[d] / length[d]
+    return nc, inv_w
 
 
 @jit
@@ -153,6 +184,46 @@ def _overlaps(p, r, pos, rad, head, nxt, lo, inv_w, nc, per, length):
 
 
 @jit
+def _grid_new(pos0, rad0, cap, lo, inv_w, nc, per):
+    """Sphere storage with room for ``cap`` spheres (``cap >= len(rad0)``), holding the
+    existing spheres ``pos0`` (N,3), ``rad0`` (N,) in a linked-cell grid of ``nc`` cells.
+    Returns ``(pos, rad, nxt, head)``: cell ``c`` holds spheres ``head[c]``, ``nxt[head[c]]``..."""
+    head = np.full(nc[0] * nc[1] * nc[2], -1, np.int64)
+    pos = np.empty((cap, 3))
+    rad = np.empty(cap)
+    nxt = np.full(cap, -1, np.int64)
+    for i in range(len(rad0)):
+        _grid_put(pos, rad, nxt, head, i, pos0[i], rad0[i], lo, inv_w, nc, per)
+    return pos, rad, nxt, head
+
+
+@jit
+def _grid_put(pos, rad, nxt, head, i, p, r, lo, inv_w, nc, per):
+    """Store sphere ``i`` (centre ``p``, radius ``r``) and link it into its grid cell."""
+    pos[i] = p
+    rad[i] = r
+    c = _cell_of(pos[i], lo, inv_w, nc, per)
+    nxt[i] = head[c]
+    head[c] = i
+
+
+@jit
+def _grid_reserve(pos, rad, nxt, n, need):
+    """Storage with room for ``need`` spheres, keeping the first ``n``; grows geometrically
+    (amortised O(1) per sphere) and returns the arrays unchanged when they are big enough."""
+    if need <= len(rad):
+        return pos, rad, nxt
+    cap = max(need, 2 * len(rad))
+    pos2 = np.empty((cap, 3))
+    rad2 = np.empty(cap)
+    nxt2 = np.full(cap, -1, np.int64)
+    pos2[:n] = pos[:n]
+    rad2[:n] = rad[:n]
+    nxt2[:n] = nxt[:n]
+    return pos2, rad2, nxt2
+
+
+@jit
 def rsa_fill(pos0, rad0, lo, length, per, radii, cdf, rtab, mass, max_try, seed):
     """Append non-overlapping spheres to (``pos0`` (N0,3), ``rad0`` (N0,)) until the first failure.
 
@@ -179,31 +250,9 @@ def rsa_fill(pos0, rad0, lo, length, per, radii, cdf, rtab, mass, max_try, seed)
     else:
         for i in range(len(rtab)):
             rmax = max(rmax, rtab[i])
-    # grid: cells at least one largest diameter wide, total count bounded
-    width = max(2.0 * rmax, 1e-300)
-    nc = np.ones(3, np.int64)
-    inv_w = np.zeros(3)
-    for d in range(3):
-        if length[d] > 0.0:
-            nc[d] = max(1, min(int(length[d] / width), 1 << 10))
-    while nc[0] * nc[1] * nc[2] > _MAX_CELLS:
-        for d in range(3):
-            nc[d] = max(1, nc[d] // 2)
-    for d in range(3):
-        if length[d] > 0.0:
-            inv_w[d] = nc[d] / length[d]
-    head = np.full(nc[0] * nc[1] * nc[2], -1, np.int64)
-
+    nc, inv_w = _grid_dims(length, rmax)
     cap = max(16, 2 * n0 + (len(radii) if given else 1024))
-    pos = np.empty((cap, 3))
-    rad = np.empty(cap)
-    nxt = np.full(cap, -1, np.int64)
-    for i in range(n0):
-        pos[i] = pos0[i]
-        rad[i] = rad0[i]
-        k = _cell_of(pos[i], lo, inv_w, nc, per)
-        nxt[i] = head[k]
-        head[k] = i
+    pos, rad, nxt, head = _grid_new(pos0, rad0, cap, lo, inv_w, nc, per)
     n = n0
     p = np.empty(3)
     m = 0
@@ -230,19 +279,113 @@ def rsa_fill(pos0, rad0, lo, length, per, radii, cdf, rtab, mass, max_try, seed)
                 break
         if not placed:
             break
-        if n == cap:  # grow storage geometrically (amortised O(1) per sphere)
-            cap *= 2
-            pos2 = np.empty((cap, 3))
-            rad2 = np.empty(cap)
-            nxt2 = np.full(cap, -1, np.int64)
-            pos2[:n] = pos[:n]
-            rad2[:n] = rad[:n]
-            nxt2[:n] = nxt[:n]
-            pos, rad, nxt = pos2, rad2, nxt2
-        pos[n] = p
-        rad[n] = r
-        k = _cell_of(p, lo, inv_w, nc, per)
-        nxt[n] = head[k]
-        head[k] = n
+        pos, rad, nxt = _grid_reserve(pos, rad, nxt, n, n + 1)
+        _grid_put(pos, rad, nxt, head, n, p, r, lo, inv_w, nc, per)
         n += 1
     return pos, rad, n
+
+
+@jit
+def _random_rotation(R):
+    """Write into ``R`` (3, 3) a rotation drawn uniformly from SO(3) (Haar measure).
+
+    The unit quaternion is a 4D normal vector normalised, which is uniform on the 3-sphere
+    because the normal distribution is isotropic; normalising uniform [0, 1) components
+    instead would favour rotations close to one octant (YADE 2023.02a does that).
+    """
+    n2 = 0.0
+    while n2 < 1e-12:  # a (near) zero vector has no direction: draw again
+        w = np.random.standard_normal()
+        x = np.random.standard_normal()
+        y = np.random.standard_normal()
+        z = np.random.standard_normal()
+        n2 = w * w + x * x + y * y + z * z
+    s = 2.0 / n2  # 2/|q|^2 normalises q inside the matrix formula
+    R[0, 0] = 1.0 - s * (y * y + z * z)
+    R[0, 1] = s * (x * y - w * z)
+    R[0, 2] = s * (x * z + w * y)
+    R[1, 0] = s * (x * y + w * z)
+    R[1, 1] = 1.0 - s * (x * x + z * z)
+    R[1, 2] = s * (y * z - w * x)
+    R[2, 0] = s * (x * z - w * y)
+    R[2, 1] = s * (y * z + w * x)
+    R[2, 2] = 1.0 - s * (x * x + y * y)
+
+
+@jit
+def clump_fill(pos0, rad0, lo, length, per, tpl_start, tpl_rel, tpl_rad, num, max_try, seed):
+    """Append rigid clumps of spheres to (``pos0`` (N0,3), ``rad0`` (N0,)) by random insertion.
+
+    Templates: template ``t`` is the spheres ``tpl_start[t]:tpl_start[t+1]`` of ``tpl_rel``
+    (M,3), member centres relative to the template's reference point, and ``tpl_rad`` (M,).
+    Each new clump takes a template drawn uniformly, then gets up to ``max_try`` attempts,
+    each with a reference point uniform in the box ``lo`` .. ``lo + length`` (3,) and a
+    uniformly random orientation. An attempt fails when one member overlaps a sphere
+    already placed (members of one clump may overlap each other) or, unless ``per``, lies
+    partly outside the box; with ``per`` the overlap test uses the minimum image and
+    members may stick out of the box. Generation stops after ``num`` clumps (``num < 0``:
+    no limit) or at the first clump whose attempts all failed.
+
+    Returns ``(pos, rad, n, tpl_of, k)``: the first ``n`` rows of ``pos``/``rad`` are the old
+    spheres followed by the members of the new clumps, clump after clump in template
+    order; ``tpl_of[:k]`` is the template of each of the ``k`` new clumps.
+    """
+    np.random.seed(seed)
+    n0 = len(rad0)
+    ntpl = len(tpl_start) - 1
+    rmax = 0.0
+    for i in range(n0):
+        rmax = max(rmax, rad0[i])
+    for i in range(len(tpl_rad)):
+        rmax = max(rmax, tpl_rad[i])
+    nc, inv_w = _grid_dims(length, rmax)
+
+    big = 0  # largest template: room for one candidate clump
+    for t in range(ntpl):
+        big = max(big, tpl_start[t + 1] - tpl_start[t])
+    cap = max(16, 2 * n0 + (num * big if num > 0 else 1024))
+    pos, rad, nxt, head = _grid_new(pos0, rad0, cap, lo, inv_w, nc, per)
+    tpl_of = np.empty(max(16, num if num > 0 else 1024), np.int64)
+    cand = np.empty((big, 3))
+    ref = np.empty(3)
+    R = np.empty((3, 3))
+    n = n0
+    k = 0
+    while num < 0 or k < num:
+        t = min(int(np.random.random() * ntpl), ntpl - 1)
+        s0 = tpl_start[t]
+        m = tpl_start[t + 1] - s0
+        placed = False
+        for _ in range(max_try):
+            for d in range(3):
+                ref[d] = lo[d] + np.random.random() * length[d]
+            _random_rotation(R)
+            ok = True
+            for j in range(m):
+                r = tpl_rad[s0 + j]
+                for d in range(3):
+                    cand[j, d] = ref[d] + (R[d, 0] * tpl_rel[s0 + j, 0] + R[d, 1] * tpl_rel[s0 + j, 1]
+                                           + R[d, 2] * tpl_rel[s0 + j, 2])
+                    if not per and (cand[j, d] - r < lo[d] or cand[j, d] + r > lo[d] + length[d]):
+                        ok = False
+                if ok and _overlaps(cand[j], r, pos, rad, head, nxt, lo, inv_w, nc, per, length):
+                    ok = False
+                if not ok:
+                    break
+            if ok:
+                placed = True
+                break
+        if not placed:
+            break
+        pos, rad, nxt = _grid_reserve(pos, rad, nxt, n, n + m)
+        if k == len(tpl_of):
+            tpl2 = np.empty(2 * k, np.int64)
+            tpl2[:k] = tpl_of[:k]
+            tpl_of = tpl2
+        # members go into the grid only now: they must not be tested against each other
+        for j in range(m):
+            _grid_put(pos, rad, nxt, head, n, cand[j], tpl_rad[s0 + j], lo, inv_w, nc, per)
+            n += 1
+        tpl_of[k] = t
+        k += 1
+    return pos, rad, n, tpl_of, k

@@ -650,6 +650,14 @@ class BodyContainer:
         ids = self.append(list(bodies))
         return self.clump(ids, discretization), ids
 
+    def replaceByClumps(self, templates, amounts, discretization: int = 0) -> list:
+        """Replace fractions ``amounts`` of the standalone spheres by clumps shaped as ``templates``
+        (``utils.clumpTemplate``), each with the volume of the sphere it replaces;
+        returns ``[(clumpId, [memberIds]), ...]`` (YADE's rules: granum.yade.clump_tools)."""
+        from granum.yade.clump_tools import replace_by_clumps
+
+        return replace_by_clumps(self, templates, amounts, discretization)
+
     def clear(self) -> None:
         """Remove all bodies and interactions."""
         self._scene.clear_bodies()

@@ -21,6 +21,12 @@ Design
 * ``regularOrtho``/``regularHexa`` reproduce YADE's lattices point for point (origin and
   layer offsets observed from YADE's output); the centres alone come from
   :func:`regularOrthoCenters`/:func:`regularHexaCenters`, which need no scene.
+* Clumps: every sphere carries a clump id (``-1``: standalone). ``makeClumpCloud`` (in
+  :mod:`granum.yade._clumpcloud`) adds rigid clumps made from template packs; ``sp[i]`` and
+  ``toList()`` give ``(center, radius, clumpId)`` for clump members and ``(center, radius)``
+  for standalone spheres, while iteration always gives pairs (all as YADE does).
+  ``toSimulation`` appends all spheres in pack order, then makes one clump body per clump
+  id in increasing order, and returns the sphere ids followed by the clump ids (YADE's ids).
 * Scene-facing functions (``toSimulation``, lattice bodies, ``fromSimulation``) import
   ``utils``/``O`` when called, so this module imports without the scene code.
 """
@@ -34,7 +40,7 @@ import warnings
 import numpy as np
 
 from granum.mathtypes import Matrix3, Quaternion, Vector3, as_mat3, as_vec3
-from granum.yade import _packing
+from granum.yade import _clumpcloud, _packing
 
 __all__ = [
     "Predicate", "PredicateBoolean", "PredicateDifference", "PredicateIntersection",
@@ -390,15 +396,18 @@ def _quantiles(num):
 
 
 class SpherePack:
-    """Set of spheres (centres ``(N, 3)``, radii ``(N,)``) with an optional periodic cell.
+    """Set of spheres (centres ``(N, 3)``, radii ``(N,)``, clump ids ``(N,)``) with an optional
+    periodic cell.
 
-    ``SpherePack()`` or ``SpherePack([((x, y, z), r), ...])``. Sequence protocol:
-    ``len(sp)``, ``sp[i] -> (Vector3 center, float radius)``, ``for c, r in sp``.
+    ``SpherePack()``, ``SpherePack([((x, y, z), r), ...])`` or with ``((x, y, z), r, clumpId)``
+    items. Sequence protocol: ``len(sp)``, ``sp[i] -> (Vector3 center, float radius)`` (plus
+    the clump id for a clump member), ``for c, r in sp``.
     """
 
     def __init__(self, spheres=None):
         self._c = np.empty((16, 3))  # storage with spare capacity; rows [0, _n) are valid
         self._r = np.empty(16)
+        self._cid = np.empty(16, dtype=np.int64)
         self._n = 0
         self._cell = np.zeros(3)
         self.isPeriodic = False
@@ -422,22 +431,36 @@ class SpherePack:
         v.flags.writeable = False
         return v
 
-    def _set(self, centers, radii):
+    @property
+    def clumpIds(self) -> np.ndarray:
+        """Clump id of each sphere, ``-1`` for standalone ones, as a read-only ``(N,)`` int64
+        array view (granum extension)."""
+        v = self._cid[: self._n]
+        v.flags.writeable = False
+        return v
+
+    def _set(self, centers, radii, clump_ids=None):
         c = np.array(centers, dtype=np.float64).reshape(-1, 3)
         r = np.array(radii, dtype=np.float64).reshape(-1)
         if len(c) != len(r):
             raise ValueError(f"{len(c)} centers but {len(r)} radii")
+        k = np.full(len(r), -1, np.int64) if clump_ids is None else np.array(clump_ids, dtype=np.int64).reshape(-1)
+        if len(k) != len(r):
+            raise ValueError(f"{len(r)} spheres but {len(k)} clump ids")
         self._c = np.concatenate([c, np.empty((16, 3))])
         self._r = np.concatenate([r, np.empty(16)])
+        self._cid = np.concatenate([k, np.empty(16, np.int64)])
         self._n = len(r)
 
     def add(self, center, radius):
-        """Append one sphere (amortised O(1): storage grows geometrically)."""
+        """Append one standalone sphere (amortised O(1): storage grows geometrically)."""
         if self._n == len(self._r):
             self._c = np.concatenate([self._c, np.empty_like(self._c)])
             self._r = np.concatenate([self._r, np.empty_like(self._r)])
+            self._cid = np.concatenate([self._cid, np.empty_like(self._cid)])
         self._c[self._n] = as_vec3(center)
         self._r[self._n] = float(radius)
+        self._cid[self._n] = -1
         self._n += 1
 
     def __len__(self):
@@ -449,9 +472,12 @@ class SpherePack:
         j = int(i) + self._n if i < 0 else int(i)
         if not 0 <= j < self._n:
             raise _PackIndexError(f"Index {i} out of range 0..{self._n - 1}")
+        if self._cid[j] >= 0:
+            return _V(self._c[j]), float(self._r[j]), int(self._cid[j])
         return _V(self._c[j]), float(self._r[j])
 
     def __iter__(self):
+        # pairs even for clump members: YADE's iterator drops the clump id
         for j in range(self._n):
             yield _V(self._c[j]), float(self._r[j])
 
@@ -459,21 +485,41 @@ class SpherePack:
         return f"<SpherePack with {self._n} spheres{', periodic' if self.isPeriodic else ''}>"
 
     def toList(self):
-        """``[(Vector3 center, float radius), ...]``."""
-        return list(self)
+        """``[(Vector3 center, float radius), ...]``; clump members as ``(center, radius, clumpId)``."""
+        return [self[j] for j in range(self._n)]
 
     def fromList(self, *args):
-        """Replace the content: ``fromList([((x, y, z), r), ...])`` or ``fromList(centers, radii)``."""
+        """Replace the content: ``fromList([((x, y, z), r), ...])`` (items may carry a third
+        element, the clump id) or ``fromList(centers, radii)``."""
+        ids = None
         if len(args) == 2:
             centers, radii = args
             centers = [as_vec3(c) for c in centers]
         elif len(args) == 1:
-            items = list(args[0])
-            centers = [as_vec3(c) for c, _ in items]
-            radii = [float(r) for _, r in items]
+            items = [tuple(x) for x in args[0]]
+            if any(len(x) not in (2, 3) for x in items):
+                raise ValueError("fromList: items must be (center, radius) or (center, radius, clumpId)")
+            centers = [as_vec3(x[0]) for x in items]
+            radii = [float(x[1]) for x in items]
+            ids = [int(x[2]) if len(x) == 3 else -1 for x in items]
         else:
             raise TypeError("fromList(list) or fromList(centers, radii)")
-        self._set(np.reshape(centers, (-1, 3)), radii)
+        self._set(np.reshape(centers, (-1, 3)), radii, ids)
+
+    # -- clumps
+    def hasClumps(self):
+        """Whether some sphere belongs to a clump."""
+        return bool(np.any(self._cid[: self._n] >= 0))
+
+    def getClumps(self):
+        """``(standalones, [clump1, clump2, ...])``: sphere indices of the standalone spheres,
+        and for each clump id in increasing order the indices of its members (YADE's form)."""
+        k = self._cid[: self._n]
+        alone = [int(i) for i in np.flatnonzero(k < 0)]
+        members = np.flatnonzero(k >= 0)
+        order = members[np.argsort(k[members], kind="stable")]  # by id, sphere order within one
+        groups = np.split(order, np.flatnonzero(np.diff(k[order])) + 1) if len(order) else []
+        return alone, [[int(i) for i in g] for g in groups]
 
     # -- periodic cell
     @property
@@ -529,8 +575,8 @@ class SpherePack:
         with open(fileName, "w") as f:
             if self.isPeriodic:
                 f.write("##PERIODIC:: {:.17g} {:.17g} {:.17g}\n".format(*self._cell))
-            for c, r in zip(self._c[: self._n], self._r[: self._n], strict=True):
-                f.write(f"{c[0]:.17g} {c[1]:.17g} {c[2]:.17g} {r:.17g} -1\n")
+            for c, r, k in zip(self._c[: self._n], self._r[: self._n], self._cid[: self._n], strict=True):
+                f.write(f"{c[0]:.17g} {c[1]:.17g} {c[2]:.17g} {r:.17g} {k}\n")
 
     def load(self, fileName):
         """Replace the content with a file written by :meth:`save` (or by YADE)."""
@@ -540,9 +586,10 @@ class SpherePack:
                 if line.startswith("##PERIODIC::"):
                     cell = [float(x) for x in line.split()[1:4]]
                 elif line.strip() and not line.startswith("#"):
-                    rows.append([float(x) for x in line.split()[:4]])
-        a = np.array(rows, dtype=np.float64).reshape(-1, 4)
-        self._set(a[:, :3], a[:, 3])
+                    v = line.split()
+                    rows.append([float(x) for x in v[:4]] + [float(v[4]) if len(v) > 4 else -1.0])
+        a = np.array(rows, dtype=np.float64).reshape(-1, 5)
+        self._set(a[:, :3], a[:, 3], a[:, 4].astype(np.int64))
         self._cell, self.isPeriodic = np.zeros(3), False
         if cell is not None:
             self.cellSize = cell
@@ -598,6 +645,7 @@ class SpherePack:
             return pos[:n], rad[:n]
 
         n_old = self._n
+        old_ids = self._cid[:n_old].copy()  # old spheres keep their clumps; new ones are standalone
         self.appliedPsdScaling = 1.0
         if len(psdSizes):
             cdf, rtab = _packing.psd_table(psdSizes, psdCumm, distributeMass)
@@ -640,26 +688,40 @@ class SpherePack:
                 porosity, attempt = new, attempt + 1
         else:
             raise ValueError("makeCloud: give rMean > 0, or num > 0, or psdSizes/psdCumm")
-        self._set(pos, rad)
+        self._set(pos, rad, np.concatenate([old_ids, np.full(len(rad) - n_old, -1, np.int64)]))
         self.isPeriodic = bool(periodic)
         if periodic:
             self._cell = length.copy()
         return self._n if num > 0 else self._n - n_old
 
     def makeClumpCloud(self, minCorner, maxCorner, clumps, periodic=False, num=-1, seed=-1):
-        """Loose cloud of clumps: not implemented yet in granum (clump support is separate)."""
-        raise NotImplementedError("SpherePack.makeClumpCloud: clumps are not supported yet")
+        """Random loose cloud of clumps in the box ``minCorner``..``maxCorner``, appended to the
+        spheres already in the pack (new clumps avoid them).
 
-    def hasClumps(self):
-        """Always False: granum's SpherePack holds no clumps yet."""
-        return False
+        ``clumps``: list of template SpherePacks; each clump copies a randomly chosen one,
+        turned by a uniformly random rotation about its bounding-box centre, which lies
+        uniformly in the box. A clump may not overlap any other sphere; without ``periodic``
+        it must lie inside the box, with ``periodic`` overlaps count across the faces and
+        ``cellSize`` becomes the box size (``isPeriodic`` is left unchanged, as in YADE).
+        Stops after ``num`` clumps or when one clump fails 200 attempts (warning if ``num``
+        was given). ``seed >= 0`` reproduces a cloud. Returns the number of clumps added.
+        Details: :mod:`granum.yade._clumpcloud`.
+        """
+        n = self._n
+        c, r, k, added = _clumpcloud.clump_cloud(self._c[:n], self._r[:n], self._cid[:n], as_vec3(minCorner),
+                                                 as_vec3(maxCorner), clumps, periodic, num, seed)
+        self._set(c, r, k)
+        if periodic:
+            self._cell = as_vec3(maxCorner) - as_vec3(minCorner)
+        return added
 
     # -- scene
     def toSimulation(self, rot=None, **kw):
-        """Add the spheres to the scene with ``utils.sphere(center, radius, **kw)``; returns
-        their ids. ``rot`` (Matrix3 or Quaternion) rotates the packing about the origin. A
-        periodic pack also makes the scene periodic with ``O.cell.hSize = rot * diag(cellSize)``
-        and ``O.cell.trsf = Identity``."""
+        """Add the spheres to the scene with ``utils.sphere(center, radius, **kw)``, then make
+        each clump (clump ids in increasing order) a clump body with ``O.bodies.clump``;
+        returns the sphere ids followed by the clump ids. ``rot`` (Matrix3 or Quaternion)
+        rotates the packing about the origin. A periodic pack (``isPeriodic``) also makes the
+        scene periodic with ``O.cell.hSize = rot * diag(cellSize)`` and ``O.cell.trsf = Identity``."""
         from granum.yade import omega, utils  # lazy: the scene code imports this module
 
         O = omega.O
@@ -675,20 +737,26 @@ class SpherePack:
             O.cell.trsf = Matrix3.Identity
         radii = self._r[: self._n]
         bodies = [utils.sphere(_V(c), float(r), **kw) for c, r in zip(centers, radii, strict=True)]
-        return O.bodies.append(bodies)
+        ids = O.bodies.append(bodies)
+        # all spheres first, then the clumps: the body ids YADE gives (not appendClumped's order)
+        for members in self.getClumps()[1]:
+            ids.append(O.bodies.clump([ids[m] for m in members]))
+        return ids
 
     def fromSimulation(self):
-        """Replace the content with the spheres of the current scene (and its periodic cell)."""
+        """Replace the content with the spheres of the current scene (and its periodic cell);
+        clump members get the id of their clump body as clump id."""
         from granum.yade import omega  # lazy: the scene code imports this module
 
         O = omega.O
-        centers, radii = [], []
+        centers, radii, ids = [], [], []
         for b in O.bodies:
             shape = getattr(b, "shape", None)
             if b is not None and type(shape).__name__ == "Sphere":
                 centers.append(as_vec3(b.state.pos))
                 radii.append(float(shape.radius))
-        self._set(np.reshape(centers, (-1, 3)), radii)
+                ids.append(int(b.clumpId) if b.isClumpMember else -1)  # YADE: the clump body's id
+        self._set(np.reshape(centers, (-1, 3)), radii, ids)
         self._cell, self.isPeriodic = np.zeros(3), False
         if O.periodic:
             self.cellSize = np.diag(np.asarray(O.cell.hSize)).copy()
