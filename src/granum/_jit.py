@@ -24,7 +24,7 @@ _PKG = pathlib.Path(__file__).resolve().parent
 
 #: Packages whose code can end up inside compiled kernels (the YADE layer, the engines
 #: and the launcher never do, so editing them keeps the cache).
-KERNEL_SOURCES = ("_jit.py", "core", "kernels", "physics")
+KERNEL_SOURCES = ("_jit.py", "core", "kernels", "physics", "idem")
 
 
 def source_hash() -> str:

@@ -16,10 +16,12 @@ Modules: :mod:`~granum.idem.bodies` (rigid bodies and builders), :mod:`~granum.i
 solutions of the article's verification cases).
 
 Where the article is ambiguous, the choice made is documented in the module that implements it:
-[A1] angular velocity, [A9] gravity first, [A13] g = 9.81 (stepper); [A2]-[A4] PCA (pca);
-[A5] pairs and normals (broadphase); [A6]-[A8], [A11], [A12] iteration (impulse); [A10] no
-position correction: penetrations are not pushed back, only approach velocities are removed;
-[A14] discretisation of the test bodies (examples/idem).
+[A1] angular velocity and free rotation keeping the angular momentum (rigid); [A9] gravity
+first (stepper); [A13] g = 9.81 along -z (solver); [A2]-[A4] PCA (pca); [A5] pairs and normals
+(broadphase), floors and slopes as fixed sheets of particles with given normals
+(bodies.plane_body); [A6]-[A8], [A11], [A12] the iteration and its "sequential"/"simultaneous"
+impact modes (impulse); [A10] no position correction: penetrations are not pushed back, only
+approach velocities are removed; [A14] discretisation of the test bodies (cases).
 """
 
 from granum.idem.bodies import RigidBody, body_from_particles, box_body, plane_body

@@ -19,9 +19,12 @@ particle pairs to test: any particle behind the tangent plane of j satisfies it.
 * The pair is a contact when C_p <= 1e-9 x the spacing (touching within round-off counts, so
   bodies placed exactly in contact are detected).
 
-The broad phase is a uniform grid of cell size equal to the largest cut-off (granum's
-collider grid works on whole bodies through the scene record, so iDEM has its own small grid
-over particles; same idea: bin, scan the 27 neighbouring cells, deterministic output).
+The search has two levels, like granum's collider but over particles (the core collider works
+on whole bodies through the scene record, so iDEM has its own small grid): bodies whose
+bounding boxes, grown by the cut-off, overlap another's (sort and sweep); then a uniform grid
+(cells of twice the largest cut-off, hashed) over the surface particles of those bodies, each
+particle scanning the 2 x 2 x 2 cells on its side. The output is deterministic and independent
+of the thread count.
 """
 
 from __future__ import annotations
@@ -32,9 +35,6 @@ import numpy as np
 
 from granum._jit import PARALLEL_THRESHOLD, jit, kernel, prange
 
-#: Other bodies tracked per particle during the search (a particle near more distinct bodies
-#: than this keeps the first ones found; 16 is far above what packed convex bodies produce).
-MAX_NEIGHBOUR_BODIES = 16
 #: A particle is "clearly flatter" than its partner when its surface variation is below this
 #: fraction of the partner's.
 FLATTER = 0.5
@@ -44,11 +44,13 @@ TOUCH = 1e-9
 
 @jit
 def build_grid(xs, h):
-    """Bin points ``xs`` (ns, 3) into cubic cells of size ``h``.
+    """Bin points ``xs`` (ns, 3) into cubic cells of size ``h`` [m], with a hash table of the cells.
 
-    Returns ``(lo, dims, cell, order, keys_sorted, dense_start)``: lower corner (3,), cells per
-    axis (3,), cell of each point (ns, 3), point indices sorted by cell key, the sorted keys, and
-    a dense per-key offset table (empty when the grid is too sparse: binary search instead).
+    Returns ``(lo, h, dims, cell, order, table)``: the grid origin (3,) and the cell size actually
+    used (``h`` grows if an axis would need more than 2**20 cells), cells per axis (3,), cell of
+    each point (ns, 3), point indices sorted by cell key, and an open-addressing hash table
+    (size, 3) (size a power of two) of rows (cell key, first, last): the points of that cell are
+    ``order[first:last]`` (key -1: empty slot).
     """
     ns = xs.shape[0]
     lo = np.empty(3)
@@ -72,52 +74,112 @@ def build_grid(xs, h):
             cell[i, k] = min(int((xs[i, k] - lo[k]) / h), dims[k] - 1)
         keys[i] = (cell[i, 0] * dims[1] + cell[i, 1]) * dims[2] + cell[i, 2]
     order = np.argsort(keys, kind="mergesort")
-    keys_sorted = keys[order]
-    ncells = dims[0] * dims[1] * dims[2]
-    if ncells <= 4 * ns + 1024:
-        dense_start = np.zeros(ncells + 1, np.int64)
-        for key in keys_sorted:
-            dense_start[key + 1] += 1
-        for k in range(ncells):
-            dense_start[k + 1] += dense_start[k]
-    else:
-        dense_start = np.zeros(0, np.int64)
-    return lo, dims, cell, order, keys_sorted, dense_start
+    size = 16
+    while size < 2 * ns:
+        size *= 2
+    table = np.full((size, 3), -1, np.int64)  # key, first, last: one cache line per probe
+    u = 0
+    while u < ns:
+        key = keys[order[u]]
+        v = u + 1
+        while v < ns and keys[order[v]] == key:
+            v += 1
+        slot = hash_slot(key, size)
+        while table[slot, 0] >= 0:
+            slot = (slot + 1) & (size - 1)
+        table[slot, 0] = key
+        table[slot, 1] = u
+        table[slot, 2] = v
+        u = v
+    return lo, h, dims, cell, order, table
 
 
 @jit
-def cell_range(key, keys_sorted, dense_start):
-    """Range [a, b) of the sorted points in cell ``key``."""
-    if dense_start.shape[0] > 0:
-        if key < 0 or key >= dense_start.shape[0] - 1:
-            return 0, 0
-        return dense_start[key], dense_start[key + 1]
-    return np.searchsorted(keys_sorted, key, side="left"), np.searchsorted(keys_sorted, key, side="right")
+def hash_slot(key, size):
+    """Home slot of a cell key in a table of ``size`` (a power of two) slots: the key modulo size.
+
+    Neighbouring cells (consecutive keys) land in neighbouring slots, so the queries, made in cell
+    order, read the table almost sequentially; scrambling the keys was 2x slower (cache misses).
+    """
+    return key & (size - 1)
 
 
-def _nearest(xs, sb, sd, fixed, factor, dims, cell, order, keys_sorted, dense_start, count, start, out):
-    """Pass 1 (``out`` empty): count, for each point, the other bodies within reach; pass 2: write
-    the pairs (point, nearest point of that body) in order of first discovery."""
-    fill = out.shape[0] > 0
-    for s in prange(xs.shape[0]):
-        bodies = np.full(MAX_NEIGHBOUR_BODIES, -1, np.int64)
-        best = np.full(MAX_NEIGHBOUR_BODIES, -1, np.int64)
-        bestd = np.full(MAX_NEIGHBOUR_BODIES, np.inf)
-        nfound = 0
+@jit
+def cell_range(key, table):
+    """Range [a, b) of ``order`` holding the points of cell ``key`` (empty if the cell is)."""
+    size = table.shape[0]
+    slot = hash_slot(key, size)
+    while table[slot, 0] >= 0:
+        if table[slot, 0] == key:
+            return table[slot, 1], table[slot, 2]
+        slot = (slot + 1) & (size - 1)
+    return 0, 0
+
+
+@jit
+def near_bodies(x, surf, pbody, pspacing, fixed, nb, factor):
+    """Bodies (nb,) bool whose bounding box, grown by the cut-off, overlaps another's (not both fixed).
+
+    Sort and sweep along x over the boxes of the surface particles ``surf`` (positions ``x``,
+    bodies ``pbody``); only the particles of these bodies can be in contact, the others skip the
+    particle search.
+    """
+    lo = np.full((nb, 3), np.inf)
+    hi = np.full((nb, 3), -np.inf)
+    reach = np.zeros(nb)
+    for u in range(surf.shape[0]):
+        i = surf[u]
+        b = pbody[i]
+        reach[b] = max(reach[b], factor * pspacing[i])
+        for k in range(3):
+            lo[b, k] = min(lo[b, k], x[i, k])
+            hi[b, k] = max(hi[b, k], x[i, k])
+    for b in range(nb):
+        for k in range(3):
+            lo[b, k] -= reach[b]
+            hi[b, k] += reach[b]
+    order = np.argsort(lo[:, 0], kind="mergesort")
+    near = np.zeros(nb, np.bool_)
+    for u in range(nb):
+        i = order[u]
+        if not lo[i, 0] <= hi[i, 0]:
+            continue  # no surface particle
+        for w in range(u + 1, nb):
+            j = order[w]
+            if lo[j, 0] > hi[i, 0]:
+                break
+            if fixed[i] and fixed[j]:
+                continue
+            if lo[j, 1] <= hi[i, 1] and lo[i, 1] <= hi[j, 1] and lo[j, 2] <= hi[i, 2] and lo[i, 2] <= hi[j, 2]:
+                near[i] = True
+                near[j] = True
+    return near
+
+
+def _within(xs, sb, sd, fixed, factor, dims, cell, order, table, count, part, dist):
+    """For each point s: the points of other bodies (not both fixed) within the pair cut-off, reduced
+    to the nearest point of each such body (ties: the smaller index), written into row s of
+    ``part``/``dist`` (ns, cap) with their number in ``count[s]`` (which may exceed cap: then the
+    caller repeats with a larger cap). Cells are at least twice the cut-off, so the 2 x 2 x 2
+    cells on the side of the point's half-cell hold every point within reach."""
+    cap = part.shape[1]
+    for v in prange(xs.shape[0]):
+        s = order[v]  # in cell order: consecutive queries read the same cells (cache locality)
         a = sb[s]
-        for dx in range(-1, 2):
-            cx = cell[s, 0] + dx
+        n = 0
+        c0 = cell[s, 0] - 1 + cell[s, 3]
+        c1 = cell[s, 1] - 1 + cell[s, 4]
+        c2 = cell[s, 2] - 1 + cell[s, 5]
+        for cx in range(c0, c0 + 2):
             if cx < 0 or cx >= dims[0]:
                 continue
-            for dy in range(-1, 2):
-                cy = cell[s, 1] + dy
+            for cy in range(c1, c1 + 2):
                 if cy < 0 or cy >= dims[1]:
                     continue
-                for dz in range(-1, 2):
-                    cz = cell[s, 2] + dz
+                for cz in range(c2, c2 + 2):
                     if cz < 0 or cz >= dims[2]:
                         continue
-                    lo, hi = cell_range((cx * dims[1] + cy) * dims[2] + cz, keys_sorted, dense_start)
+                    lo, hi = cell_range((cx * dims[1] + cy) * dims[2] + cz, table)
                     for u in range(lo, hi):
                         t = order[u]
                         b = sb[t]
@@ -129,71 +191,111 @@ def _nearest(xs, sb, sd, fixed, factor, dims, cell, order, keys_sorted, dense_st
                         cut = factor * 0.5 * (sd[s] + sd[t])
                         if d2 > cut * cut:
                             continue
-                        slot = -1
-                        for m in range(nfound):
-                            if bodies[m] == b:
-                                slot = m
-                                break
-                        if slot < 0:
-                            if nfound == MAX_NEIGHBOUR_BODIES:
-                                continue
-                            slot = nfound
-                            bodies[slot] = b
-                            nfound += 1
-                        # nearest, ties broken by the smaller index (independent of scan order)
-                        if d2 < bestd[slot] or (d2 == bestd[slot] and t < best[slot]):
-                            bestd[slot] = d2
-                            best[slot] = t
-        if fill:
-            for m in range(nfound):
-                out[start[s] + m, 0] = s
-                out[start[s] + m, 1] = best[m]
-        else:
-            count[s] = nfound
+                        # keep only the nearest point of body b
+                        m = 0
+                        while m < min(n, cap) and sb[part[s, m]] != b:
+                            m += 1
+                        if m < min(n, cap):
+                            t0 = part[s, m]
+                            if d2 < dist[s, m] or (d2 == dist[s, m] and t < t0):
+                                part[s, m] = t
+                                dist[s, m] = d2
+                        else:
+                            if n < cap:
+                                part[s, n] = t
+                                dist[s, n] = d2
+                            n += 1
+        count[s] = n
 
 
-nearest_pairs, nearest_pairs_par = kernel(_nearest)
+within_pairs, within_pairs_par = kernel(_within)
 
 
 @jit
-def candidate_pairs(xs, sb, sd, fixed, factor):
-    """Unique candidate pairs (m, 2) of point indices, i < j, sorted (see the module docstring).
+def candidate_pairs(surf, x, pbody, pspacing, fixed, factor):
+    """Unique candidate pairs (m, 2) of particle indices, i < j, sorted (see the module docstring).
 
-    ``xs`` (ns, 3) world positions of the surface particles [m], ``sb`` (ns,) their bodies,
-    ``sd`` (ns,) their spacings [m], ``fixed`` (nb,) bool, ``factor`` the cut-off factor.
+    ``surf`` (ns,) indices of the surface particles, ``x`` (np, 3) world positions [m],
+    ``pbody`` (np,) bodies, ``pspacing`` (np,) spacings [m], ``fixed`` (nb,) bool, ``factor`` the
+    cut-off factor. For each particle and each other body within reach, the pair with that body's
+    nearest particle.
     """
-    ns = xs.shape[0]
+    ns_all = surf.shape[0]
+    if ns_all == 0:
+        return np.zeros((0, 2), np.int64)
+    near = near_bodies(x, surf, pbody, pspacing, fixed, fixed.shape[0], factor)
+    ns = 0
+    for u in range(ns_all):
+        if near[pbody[surf[u]]]:
+            ns += 1
     if ns == 0:
         return np.zeros((0, 2), np.int64)
+    sel = np.empty(ns, np.int64)
+    xq = np.empty((ns, 3))
+    bq = np.empty(ns, np.int64)
+    dq = np.empty(ns)
     h = 0.0
-    for s in range(ns):
-        h = max(h, factor * sd[s])
-    lo, dims, cell, order, keys_sorted, dense_start = build_grid(xs, h)
+    m = 0
+    for u in range(ns_all):
+        i = surf[u]
+        if near[pbody[i]]:
+            sel[m] = i
+            for k in range(3):
+                xq[m, k] = x[i, k]
+            bq[m] = pbody[i]
+            dq[m] = pspacing[i]
+            h = max(h, 2.0 * factor * dq[m])
+            m += 1
+    lo, h, dims, cell3, order, table = build_grid(xq, h)
+    # store the points in cell order (the neighbours read in a cell are then contiguous in memory:
+    # random access made the search 3x slower), with each point's cell and half-cell: the
+    # 2 x 2 x 2 block to scan starts one cell lower on the axes where the point lies in the lower
+    # half of its cell
+    cell = np.empty((ns, 6), np.int64)
+    xo = np.empty((ns, 3))
+    bo = np.empty(ns, np.int64)
+    do = np.empty(ns)
+    so = np.empty(ns, np.int64)
+    for v in range(ns):
+        u = order[v]
+        so[v] = sel[u]
+        bo[v] = bq[u]
+        do[v] = dq[u]
+        for k in range(3):
+            xo[v, k] = xq[u, k]
+            cell[v, k] = cell3[u, k]
+            cell[v, 3 + k] = 0 if (xq[u, k] - lo[k]) - cell3[u, k] * h < 0.5 * h else 1
+    xq = xo
+    bq = bo
+    dq = do
+    sel = so
+    order = np.arange(ns)
     count = np.zeros(ns, np.int64)
-    start = np.zeros(ns + 1, np.int64)
-    none = np.zeros((0, 2), np.int64)
+    cap = 4
     par = ns >= PARALLEL_THRESHOLD
-    if par:
-        nearest_pairs_par(xs, sb, sd, fixed, factor, dims, cell, order, keys_sorted, dense_start, count, start, none)
-    else:
-        nearest_pairs(xs, sb, sd, fixed, factor, dims, cell, order, keys_sorted, dense_start, count, start, none)
-    for s in range(ns):
-        start[s + 1] = start[s] + count[s]
-    raw = np.empty((start[ns], 2), np.int64)
-    if par:
-        nearest_pairs_par(xs, sb, sd, fixed, factor, dims, cell, order, keys_sorted, dense_start, count, start, raw)
-    else:
-        nearest_pairs(xs, sb, sd, fixed, factor, dims, cell, order, keys_sorted, dense_start, count, start, raw)
-    keys = np.empty(raw.shape[0], np.int64)
-    for m in range(raw.shape[0]):
-        i = min(raw[m, 0], raw[m, 1])
-        j = max(raw[m, 0], raw[m, 1])
-        keys[m] = i * ns + j
+    while True:
+        part = np.empty((ns, cap), np.int64)
+        dist = np.empty((ns, cap))
+        if par:
+            within_pairs_par(xq, bq, dq, fixed, factor, dims, cell, order, table, count, part, dist)
+        else:
+            within_pairs(xq, bq, dq, fixed, factor, dims, cell, order, table, count, part, dist)
+        most = count.max()
+        if most <= cap:
+            break
+        cap = most
+    keys = np.empty(count.sum(), np.int64)
+    nk = 0
+    for u in range(ns):
+        for m in range(count[u]):
+            t = part[u, m]
+            keys[nk] = min(sel[u], sel[t]) * x.shape[0] + max(sel[u], sel[t])
+            nk += 1
     keys = np.unique(keys)
     pairs = np.empty((keys.shape[0], 2), np.int64)
     for m in range(keys.shape[0]):
-        pairs[m, 0] = keys[m] // ns
-        pairs[m, 1] = keys[m] % ns
+        pairs[m, 0] = keys[m] // x.shape[0]
+        pairs[m, 1] = keys[m] % x.shape[0]
     return pairs
 
 
@@ -207,16 +309,7 @@ def find_contacts(surf, pbody, pspacing, x, nw, sigma, fixed, pos, factor):
     and body of A and of B (B owns the normal), the unit normal (m, 3) pointing out of B, the
     lever arms x - X (m, 3) [m] and the gap C_p (m,) [m] (<= 0 for the contacts returned).
     """
-    ns = surf.shape[0]
-    xs = np.empty((ns, 3))
-    sb = np.empty(ns, np.int64)
-    sd = np.empty(ns)
-    for s in range(ns):
-        i = surf[s]
-        xs[s, :] = x[i]
-        sb[s] = pbody[i]
-        sd[s] = pspacing[i]
-    pairs = candidate_pairs(xs, sb, sd, fixed, factor)
+    pairs = candidate_pairs(surf, x, pbody, pspacing, fixed, factor)
     m = pairs.shape[0]
     pa = np.empty(m, np.int64)
     pb = np.empty(m, np.int64)
@@ -224,8 +317,8 @@ def find_contacts(surf, pbody, pspacing, x, nw, sigma, fixed, pos, factor):
     cp = np.empty(m)
     keep = np.zeros(m, np.bool_)
     for c in range(m):
-        p = surf[pairs[c, 0]]
-        q = surf[pairs[c, 1]]
+        p = pairs[c, 0]
+        q = pairs[c, 1]
         P = pbody[p]
         Q = pbody[q]
         owner = -1

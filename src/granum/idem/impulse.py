@@ -38,7 +38,7 @@ Choices where the article is ambiguous:
   ``simultaneous``: every contact of the step can join the compression as soon as it approaches
   (one multi-contact compression, then the release of all stored energies).
 * [A8] friction: static if mu J_n >= J_t with J_t = v_t / (t.K.t) cancelling the whole tangential
-  velocity, the impulse J_n n - J_t t; otherwise sliding, J = J_n (n - mu t) with
+  velocity (1/N of it in a group of N, see [A6]), the impulse J_n n - J_t t; otherwise sliding, J = J_n (n - mu t) with
   J_n = dv_n / (n.K.(n - mu t)): the tangential impulse always opposes the tangential velocity.
   Near jamming (n.K.(n - mu t) < n.K.n / 10, possible for large mu and strong rotational
   coupling) the normal impulse stays dv_n / (n.K.n) and the tangential one is limited to mu J_n.
@@ -71,7 +71,7 @@ ST_W_REL = 6         # normal work released [J]
 ST_RESIDUAL = 7      # e^2 W_comp left unreleased at the tolerance [J]
 ST_FRICTION = 8      # tangential work of the impulses [J] (<= 0: dissipated by friction)
 ST_OVERSHOOT = 9     # energy released beyond e^2 W_comp by a group (clamped; should stay 0) [J]
-ST_CAPPED = 10       # 1 if max_rounds was reached, 2 if max_iter, 3 both
+ST_CAPPED = 10       # bit flags: 1 max_rounds was reached, 2 max_iter was reached
 ST_SIZE = 11
 
 SEQUENTIAL = 0
@@ -98,10 +98,11 @@ def normal_stiffness(c, ba, bb, ra, rb, nrm, invm, invI):
 
 
 @jit
-def trial_impulse(c, v, dvn, mu, share, ba, bb, ra, rb, nrm, invm, invI):
+def trial_impulse(c, v, dvn, mu, share, ba, bb, ra, rb, nrm, invm, invI, kappa):
     """Impulse on A (on B: its opposite) giving the normal velocity change ``dvn`` (article §6.3-6.4).
 
-    ``v`` the current relative velocity of the pair. Returns ``(J, J_n)``: the impulse (3-tuple)
+    ``v`` the current relative velocity of the pair, ``kappa`` (nc,) the n.K.n of the contacts
+    (constant within a step: positions are frozen). Returns ``(J, J_n)``: the impulse (3-tuple)
     [N s] and its normal component. Static friction cancels the fraction ``share`` (1/N in a
     group of N pairs, see [A6]) of the tangential velocity, J_t = share v_t / (t.K.t), when
     mu J_n >= J_t; otherwise the sliding impulse J_n (n - mu t).
@@ -111,8 +112,10 @@ def trial_impulse(c, v, dvn, mu, share, ba, bb, ra, rb, nrm, invm, invI):
     n = load3(nrm, c)
     r_a = load3(ra, c)
     r_b = load3(rb, c)
-    kn = dot(n, k_apply(invm[a], invI[a], r_a, invm[b], invI[b], r_b, n))
+    kn = kappa[c]
     jn = dvn / kn
+    if mu == 0.0:  # frictionless: the normal impulse only
+        return scale(n, jn), jn
     vn = dot(v, n)
     vt_vec = sub(v, scale(n, vn))
     vt = norm(vt_vec)
@@ -145,7 +148,7 @@ def apply_impulse(c, J, ba, bb, ra, rb, invm, invI, vel, omg):
 
 
 @jit
-def _group_step(ng, group, dvn_mode, alpha0, mu, Wstore, sign, ba, bb, ra, rb, nrm, invm, invI, vel, omg,
+def _group_step(ng, group, dvn_mode, alpha0, mu, Wstore, sign, ba, bb, ra, rb, nrm, invm, invI, kappa, vel, omg,
                 v0, Jg, jng, stats):
     """Compute the impulses of a group from the velocities at the start of the iteration, apply
     them together, and book the normal work of each pair into ``Wstore`` (``sign`` -1: compression
@@ -161,13 +164,12 @@ def _group_step(ng, group, dvn_mode, alpha0, mu, Wstore, sign, ba, bb, ra, rb, n
         if dvn_mode == 0:
             dvn = -vn / (alpha0 * ng)
         else:
-            kn = normal_stiffness(c, ba, bb, ra, rb, nrm, invm, invI)
-            w2 = 2.0 * Wstore[c] * kn
+            w2 = 2.0 * Wstore[c] * kappa[c]
             root = math.sqrt(vn * vn + w2)
             # dvbar = -v_n + sqrt(v_n^2 + 2 W kappa), in the form without cancellation for v_n > 0
             dvbar = w2 / (vn + root) if vn > 0.0 else root - vn
             dvn = dvbar / alpha0
-        J, jn = trial_impulse(c, v, dvn, mu, 1.0 / ng, ba, bb, ra, rb, nrm, invm, invI)
+        J, jn = trial_impulse(c, v, dvn, mu, 1.0 / ng, ba, bb, ra, rb, nrm, invm, invI, kappa)
         for k in range(3):
             Jg[g, k] = J[k]
         jng[g] = jn
@@ -194,8 +196,8 @@ def _group_step(ng, group, dvn_mode, alpha0, mu, Wstore, sign, ba, bb, ra, rb, n
 
 
 @jit
-def _compress(members, nm, tol_v, alpha0, tie, mu, max_iter, ba, bb, ra, rb, nrm, fixed, invm, invI, vel, omg,
-              cstart, clist, keys, heap, where, Wc, group, stack, v0, Jg, jng, cstamp, bstamp, stamp, stats):
+def _compress(members, nm, tol_v, alpha0, tie, mu, max_iter, ba, bb, ra, rb, nrm, fixed, invm, invI, kappa, vel,
+              omg, cstart, clist, keys, heap, where, Wc, group, stack, v0, Jg, jng, cstamp, bstamp, stamp, stats):
     """Compression phase over the contacts ``members[:nm]`` (article §6); returns the stamp counter."""
     size = 0
     for m in range(nm):
@@ -208,11 +210,11 @@ def _compress(members, nm, tol_v, alpha0, tie, mu, max_iter, ba, bb, ra, rb, nrm
         if vmin >= -tol_v:
             break
         if iters >= max_iter:
-            stats[ST_CAPPED] = max(stats[ST_CAPPED], 2.0)
+            stats[ST_CAPPED] = float(int(stats[ST_CAPPED]) | 2)
             break
         ng = hp.collect(keys, heap, size, vmin + tie * abs(vmin), group, stack)
-        _group_step(ng, group, 0, alpha0, mu, Wc, -1.0, ba, bb, ra, rb, nrm, invm, invI, vel, omg, v0, Jg, jng,
-                    stats)
+        _group_step(ng, group, 0, alpha0, mu, Wc, -1.0, ba, bb, ra, rb, nrm, invm, invI, kappa, vel, omg, v0, Jg,
+                    jng, stats)
         # the impulses changed the velocity of every contact of the free bodies involved
         stamp += 1
         for g in range(ng):
@@ -234,7 +236,7 @@ def _compress(members, nm, tol_v, alpha0, tie, mu, max_iter, ba, bb, ra, rb, nrm
 
 
 @jit
-def _release(members, nm, e, tol, alpha0, tie, mu, max_iter, ba, bb, ra, rb, nrm, invm, invI, vel, omg,
+def _release(members, nm, e, tol, alpha0, tie, mu, max_iter, ba, bb, ra, rb, nrm, invm, invI, kappa, vel, omg,
              keys, heap, where, Wc, Wr, group, stack, v0, Jg, jng, stats):
     """Release phase (article §7): W_rel = e^2 W_comp per pair, largest first."""
     size = 0
@@ -253,11 +255,11 @@ def _release(members, nm, e, tol, alpha0, tie, mu, max_iter, ba, bb, ra, rb, nrm
         if w <= tol_w:
             break
         if iters >= max_iter:
-            stats[ST_CAPPED] = max(stats[ST_CAPPED], 2.0)
+            stats[ST_CAPPED] = float(int(stats[ST_CAPPED]) | 2)
             break
         ng = hp.collect(keys, heap, size, -w + tie * w, group, stack)
-        _group_step(ng, group, 1, alpha0, mu, Wr, 1.0, ba, bb, ra, rb, nrm, invm, invI, vel, omg, v0, Jg, jng,
-                    stats)
+        _group_step(ng, group, 1, alpha0, mu, Wr, 1.0, ba, bb, ra, rb, nrm, invm, invI, kappa, vel, omg, v0, Jg,
+                    jng, stats)
         for g in range(ng):
             hp.update(keys, heap, where, size, group[g], -Wr[group[g]])
         iters += 1
@@ -310,6 +312,9 @@ def resolve(e, mu, alpha0, tol, tie, mode, max_rounds, max_iter, ba, bb, ra, rb,
     if nc == 0:
         return
     cstart, clist = contact_csr(nb, ba, bb, fixed)
+    kappa = np.empty(nc)
+    for c in range(nc):
+        kappa[c] = normal_stiffness(c, ba, bb, ra, rb, nrm, invm, invI)
     # velocity scale: the fastest approach now, with a floor at round-off of the body speeds
     vref = 0.0
     for c in range(nc):
@@ -345,9 +350,9 @@ def resolve(e, mu, alpha0, tol, tie, mode, max_rounds, max_iter, ba, bb, ra, rb,
         if nm == 0:
             break
         if rounds >= max_rounds:  # safeguard: end with a fully inelastic compression of everything
-            stats[ST_CAPPED] = 1.0 if stats[ST_CAPPED] == 0.0 else 3.0
+            stats[ST_CAPPED] = float(int(stats[ST_CAPPED]) | 1)
             stamp = _compress(everything, nc, tol_v, alpha0, tie, mu, max_iter, ba, bb, ra, rb, nrm, fixed, invm,
-                              invI, vel, omg, cstart, clist, keys, heap, where, Wc, group, stack, v0, Jg, jng,
+                              invI, kappa, vel, omg, cstart, clist, keys, heap, where, Wc, group, stack, v0, Jg, jng,
                               cstamp, bstamp, stamp, stats)
             break
         if mode == SIMULTANEOUS:
@@ -356,9 +361,9 @@ def resolve(e, mu, alpha0, tol, tie, mode, max_rounds, max_iter, ba, bb, ra, rb,
         for m in range(nm):
             Wc[members[m]] = 0.0
         stamp = _compress(members, nm, tol_v, alpha0, tie, mu, max_iter, ba, bb, ra, rb, nrm, fixed, invm, invI,
-                          vel, omg, cstart, clist, keys, heap, where, Wc, group, stack, v0, Jg, jng, cstamp,
+                          kappa, vel, omg, cstart, clist, keys, heap, where, Wc, group, stack, v0, Jg, jng, cstamp,
                           bstamp, stamp, stats)
-        _release(members, nm, e, tol, alpha0, tie, mu, max_iter, ba, bb, ra, rb, nrm, invm, invI, vel, omg, keys,
+        _release(members, nm, e, tol, alpha0, tie, mu, max_iter, ba, bb, ra, rb, nrm, invm, invI, kappa, vel, omg, keys,
                  heap, where, Wc, Wr, group, stack, v0, Jg, jng, stats)
         rounds += 1
     stats[ST_ROUNDS] = rounds

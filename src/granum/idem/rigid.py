@@ -5,7 +5,8 @@ Compiled helpers shared by the iDEM kernels. Vectors are ``(x, y, z)`` tuples (s
 ``(w, x, y, z)`` and map the body frame to the world frame.
 
 References: seed article "力積型個別要素法" (summarised in ``shared/reference/idem.md``),
-§2 (mass properties), §5 (K matrix), §8 (position and orientation update).
+§2 (mass properties), §5 (K matrix), §8 (position and orientation update). [A1]: the article's
+"ω" is the angular velocity (its Δω = I^-1 (r x J) says so), stored per body in the world frame.
 """
 
 from __future__ import annotations

@@ -25,11 +25,19 @@ import numpy as np
 from granum._jit import call
 from granum.idem import impulse as imp
 from granum.idem.bodies import RigidBody
-from granum.idem.rigid import update_particles, world_inverse_inertia
+from granum.idem.rigid import rotation_matrix, update_particles, world_inverse_inertia
 from granum.idem.stepper import run_steps
 from granum.mathtypes import as_vec3
 
 _MODES = {"sequential": imp.SEQUENTIAL, "simultaneous": imp.SIMULTANEOUS}
+
+
+def _inverse(inertia: np.ndarray) -> np.ndarray:
+    """Inverse inertia tensor; the pseudo-inverse when singular (one particle, or particles on a line:
+    their lever arms give no torque about the degenerate axes, which then do not rotate)."""
+    if np.linalg.cond(inertia) < 1e12:
+        return np.linalg.inv(inertia)
+    return np.linalg.pinv(inertia, rcond=1e-12, hermitian=True)
 
 
 def _check(name: str, value):
@@ -73,7 +81,7 @@ class IDEMSolver:
     * ``tol`` in (0, 1): iterations stop when no pair approaches faster than tol x the step's
       fastest approach and no pair stores more than tol x the largest stored energy;
       ``tie`` in (0, 1): relative tolerance of "tied" pairs (N_comp);
-    * ``gravity`` (3,) [m/s^2], ``dt`` [s];
+    * ``gravity`` (3,) [m/s^2] (default (0, 0, -9.81): g is not given by the article, [A13]), ``dt`` [s];
     * ``cutoff``: contact reach as a fraction of the particle spacing (default 0.8);
     * ``impact``: "sequential" (default) or "simultaneous" (see :mod:`granum.idem.impulse`);
     * ``max_rounds``, ``max_iter``: safeguards of the iteration (reported in ``stats``).
@@ -138,7 +146,7 @@ class IDEMSolver:
         self._inv_mass = cat(self._inv_mass, 0.0 if body.fixed else 1.0 / body.mass)
         self._fixed = cat(self._fixed, body.fixed)
         self._inertia0 = cat(self._inertia0, body.inertia0)
-        self._inv_inertia0 = cat(self._inv_inertia0, np.zeros((3, 3)) if body.fixed else np.linalg.inv(body.inertia0))
+        self._inv_inertia0 = cat(self._inv_inertia0, np.zeros((3, 3)) if body.fixed else _inverse(body.inertia0))
         self._inv_inertia = cat(self._inv_inertia, np.zeros((3, 3)))
         n = body.nParticles
         first = len(self._pbody)
@@ -196,9 +204,9 @@ class IDEMSolver:
         self.time += k * self.dt
         if k:
             self._last = st[-1].copy()
-            capped = max(self._totals[imp.ST_CAPPED], st[:, imp.ST_CAPPED].max())  # a flag, not a count
+            capped = int(self._totals[imp.ST_CAPPED]) | int(np.bitwise_or.reduce(st[:, imp.ST_CAPPED].astype(int)))
             self._totals += st.sum(axis=0)
-            self._totals[imp.ST_CAPPED] = capped
+            self._totals[imp.ST_CAPPED] = capped  # bit flags, not a count
         if self.record:
             self.history = np.concatenate([self.history, st])
 
@@ -206,7 +214,8 @@ class IDEMSolver:
     @property
     def stats(self) -> dict:
         """Counters of the last step: contacts, rounds, compression/release iterations, impulses,
-        and the works [J] (compression, released, residual, friction, overshoot), capped flag."""
+        the works [J] (compression, released, residual, friction, overshoot) and ``capped`` (bit
+        flags: 1 the round limit was reached, 2 the iteration limit)."""
         return _stats_dict(self._last)
 
     @property
@@ -214,14 +223,18 @@ class IDEMSolver:
         """The same counters summed over all steps run so far."""
         return _stats_dict(self._totals)
 
+    def _spin(self, b: int) -> np.ndarray:
+        """Angular momentum of body ``b`` about its centre, R I0 R^T w (3,) [kg m^2/s]."""
+        R = np.empty((3, 3))
+        call(rotation_matrix, tuple(float(c) for c in self._ori[b]), R)
+        return R @ self._inertia0[b] @ R.T @ self._ang_vel[b]
+
     def kinetic(self) -> float:
         """Kinetic energy sum 1/2 M V^2 + 1/2 w.I w of the free bodies [J]."""
         free = ~self._fixed
         ke = 0.5 * float((self._mass[free] * (self._vel[free] ** 2).sum(axis=1)).sum())
-        for b in np.nonzero(free)[0]:
-            w = self._ang_vel[b]
-            L = np.linalg.solve(self._inv_inertia[b], w) if np.any(w) else np.zeros(3)
-            ke += 0.5 * float(w @ L)
+        for b in np.nonzero(free & np.any(self._ang_vel != 0.0, axis=1))[0]:
+            ke += 0.5 * float(self._ang_vel[b] @ self._spin(b))
         return ke
 
     def potential(self) -> float:
@@ -238,9 +251,7 @@ class IDEMSolver:
         """Total angular momentum about the origin sum (X x M V + I w) of the free bodies (3,) [kg m^2/s]."""
         out = np.zeros(3)
         for b in np.nonzero(~self._fixed)[0]:
-            w = self._ang_vel[b]
-            spin = np.linalg.solve(self._inv_inertia[b], w) if np.any(w) else np.zeros(3)
-            out += np.cross(self._pos[b], self._mass[b] * self._vel[b]) + spin
+            out += np.cross(self._pos[b], self._mass[b] * self._vel[b]) + self._spin(b)
         return out
 
     def energy(self) -> dict:
@@ -250,9 +261,9 @@ class IDEMSolver:
         ``friction`` (energy removed by the tangential impulses)."""
         t = self._totals
         ke, pe = self.kinetic(), self.potential()
-        return {"kinetic": ke, "potential": pe, "total": ke + pe, "compression": t[imp.ST_W_COMP],
-                "released": t[imp.ST_W_REL], "dissipated": t[imp.ST_W_COMP] - t[imp.ST_W_REL],
-                "friction": -t[imp.ST_FRICTION]}
+        comp, rel, fric = float(t[imp.ST_W_COMP]), float(t[imp.ST_W_REL]), float(t[imp.ST_FRICTION])
+        return {"kinetic": ke, "potential": pe, "total": ke + pe, "compression": comp, "released": rel,
+                "dissipated": comp - rel, "friction": 0.0 - fric}
 
     def iterations(self) -> np.ndarray:
         """Iterations (compression + release) of every recorded step, shape (steps,)."""
