@@ -1,0 +1,64 @@
+# Benchmark: dense lattice (also the scaling benchmark, via BENCH_N).
+#
+# n^3 spheres of radius r = 0.01 on a simple cubic lattice with spacing 2r(1 - 1e-3),
+# so that every sphere overlaps its 6 neighbours slightly, confined by a closed
+# geom.facetBox whose walls overlap the outer spheres by the same amount (r*1e-3).
+# FrictMat(young=1e8, poisson=0.3, frictionAngle=30 deg, density=2600), Cundall-Strack
+# chain, NewtonIntegrator(damping=0.2, gravity -z), O.dt = 0.5*PWaveTimeStep().
+# At n = 20: 8,000 spheres and about 25,000 contacts (3 n^2 (n-1) sphere-sphere + walls).
+#
+# Runs unmodified with `granum -jN dense_lattice.py` and `yade -n -x -jN dense_lattice.py`.
+# Environment: BENCH_N (default 20) lattice size, BENCH_STEPS (default 500) timed steps,
+# BENCH_WARMUP (default 1) untimed steps before them, BENCH_DUMP=path: after the run,
+# write the sphere positions to path (one line "x y z" per sphere, %.17g) to check
+# bitwise determinism across thread counts and runs. BENCH_NAME overrides the name
+# printed (benchmarks/run uses scaling_N).
+# Prints one line:  BENCH name=dense_lattice ...
+
+import os
+import sys
+import time
+
+from yade import geom
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(sys.argv[0])))
+from _bench import env_int, measure  # noqa: E402
+
+t_script = time.perf_counter()
+n = env_int('BENCH_N', 20)
+dump = os.environ.get('BENCH_DUMP', '')
+
+r = 0.01
+overlap = 1e-3
+s = 2 * r * (1 - overlap)  # lattice spacing
+mat = O.materials.append(FrictMat(young=1e8, poisson=0.3, frictionAngle=radians(30), density=2600))
+
+# centres x = r + i*s (i = 0..n-1) on each axis, x fastest, z slowest
+sphereIds = O.bodies.append(
+    [sphere((r + i * s, r + j * s, r + k * s), r, material=mat) for k in range(n) for j in range(n) for i in range(n)])
+
+# walls through the outer spheres, overlapping them by r*overlap like the neighbours do
+half = 0.5 * (n - 1) * s + r * (1 - overlap)
+c = r + 0.5 * (n - 1) * s
+O.bodies.append(geom.facetBox((c, c, c), (half, half, half), material=mat))
+
+O.engines = [
+    ForceResetter(),
+    InsertionSortCollider([Bo1_Sphere_Aabb(), Bo1_Facet_Aabb()]),
+    InteractionLoop(
+        [Ig2_Sphere_Sphere_ScGeom(), Ig2_Facet_Sphere_ScGeom()],
+        [Ip2_FrictMat_FrictMat_FrictPhys()],
+        [Law2_ScGeom_FrictPhys_CundallStrack()],
+    ),
+    NewtonIntegrator(damping=0.2, gravity=(0, 0, -9.81)),
+]
+O.dt = 0.5 * PWaveTimeStep()
+
+measure(O, os.environ.get('BENCH_NAME', 'dense_lattice'), len(sphereIds), env_int('BENCH_STEPS', 500),
+        env_int('BENCH_WARMUP', 1), t_script)
+
+if dump:
+    with open(dump, 'w') as f:
+        for i in sphereIds:
+            p = O.bodies[i].state.pos
+            f.write(f'{p[0]:.17g} {p[1]:.17g} {p[2]:.17g}\n')
