@@ -10,7 +10,7 @@ are re-raised by ``O.wait()``.
 from __future__ import annotations
 
 import builtins
-import copy
+import contextlib
 import sys
 import threading
 
@@ -20,6 +20,7 @@ from granum.core.arrays import ENERGY_NAMES
 from granum.core.scene import Scene
 from granum.engines.base import Engine
 from granum.engines.runner import Runner
+from granum.io import checkpoint
 from granum.mathtypes import Vector3, as_vec3
 from granum.yade.bodies import BodyContainer
 from granum.yade.cell import Cell
@@ -347,17 +348,46 @@ class Omega:
             self.pause()
             self._thread.join()
 
+    def save(self, file) -> None:
+        """Save the whole scene to ``file`` (format by extension: ``.yade``, ``.xml``, ``.h5``, optionally
+        ``.gz``/``.bz2``; see :mod:`granum.io.checkpoint`). The file is written atomically."""
+        with self._paused():
+            checkpoint.checkpoint_write(file, self._scene, self.materials)
+
+    @contextlib.contextmanager
+    def _paused(self):
+        """Pause a run going on in another thread for the block (saving needs a still scene), then resume it
+        unless it ended meanwhile (reached stopAtIter/stopAtTime or failed)."""
+        if not self._running or self._thread is threading.current_thread():
+            yield
+            return
+        s = self._scene
+        it0, t0 = s.iter, s.time
+        self._stop_and_wait()
+        try:
+            yield
+        finally:
+            ended = (self.stopAtIter > it0 and s.iter >= self.stopAtIter) or \
+                (self.stopAtTime > t0 and s.time >= self.stopAtTime)
+            if self._error is None and not ended:
+                self.run()
+
+    def load(self, file) -> None:
+        """Replace the scene by the one saved in ``file`` with :meth:`save` (stops a running simulation)."""
+        self._stop_and_wait()
+        self._new_scene(*checkpoint.checkpoint_read(file))
+
     def saveTmp(self, mark: str = "") -> None:
-        """Keep a copy of the whole scene in memory under ``mark``."""
-        self._snapshots[mark] = copy.deepcopy((self._scene, self.materials))
+        """Keep the whole scene in memory under ``mark`` (the checkpoint :meth:`save` writes, as bytes)."""
+        with self._paused():
+            self._snapshots[mark] = checkpoint.checkpoint_bytes(self._scene, self.materials)
 
     def loadTmp(self, mark: str = "") -> None:
         """Replace the scene by the copy saved with ``saveTmp(mark)``."""
         if mark not in self._snapshots:
             raise RuntimeError(f"O.loadTmp: no scene saved under mark {mark!r} (use O.saveTmp first)")
         self._stop_and_wait()
-        scene, materials = copy.deepcopy(self._snapshots[mark])
-        self._new_scene(scene, materials)
+        self._new_scene(*checkpoint.checkpoint_from_bytes(self._snapshots[mark], f"O.saveTmp({mark!r})"))
 
     def lsTmp(self) -> list:
         return list(self._snapshots)
