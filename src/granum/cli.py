@@ -2,7 +2,8 @@
 
 ``granum script.py [args]`` runs the script in a YADE namespace and exits when it
 returns (like ``yade -n -x``); ``-j N`` sets the number of compute threads;
-``granum`` alone opens an IPython prompt with the same namespace.
+``granum`` alone opens an IPython prompt with the same namespace;
+``granum batch TABLE script.py`` runs a parametric study (see :mod:`granum.batch`).
 """
 
 from __future__ import annotations
@@ -39,7 +40,8 @@ def install_yade_alias() -> None:
 def _parser() -> argparse.ArgumentParser:
     from granum import __version__
 
-    p = argparse.ArgumentParser(prog="granum", description="Run a YADE script with granum.")
+    p = argparse.ArgumentParser(prog="granum", description="Run a YADE script with granum.",
+                                epilog="granum batch TABLE SCRIPT runs a parametric study (granum batch -h).")
     p.add_argument("-j", "--threads", type=int, default=None, help="number of compute threads (default: all cores)")
     p.add_argument("-n", action="store_true", help="accepted for YADE compatibility (granum is always headless)")
     p.add_argument("-x", action="store_true", help="accepted for YADE compatibility (exit when the script ends)")
@@ -98,6 +100,11 @@ def interactive() -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
+    argv = sys.argv[1:] if argv is None else argv
+    if argv[:1] == ["batch"] and not os.path.isfile("batch"):
+        from granum.batch import main as batch_main
+
+        return batch_main(argv[1:])
     args = _parser().parse_args(argv)
     _set_threads(args.threads)
     if args.script is None:

@@ -1,75 +1,74 @@
 """Script side of parametric studies: ``readParamsFromTable``, ``waitIfBatch``, ``runningInBatch``.
 
-A batch job gets ``PARAM_TABLE=file:line`` in its environment; the values of that
-line of the table override the defaults declared by the script.
+A batch job (see :mod:`granum.batch`) gets ``YADE_BATCH=file:line`` (YADE 2023's name; the
+older ``PARAM_TABLE`` is read too) in its environment; the values of that line of the table
+override the defaults the script declares. The tags YADE sets for a batch job are set here:
+``line`` (``l<number>``), ``description``, ``d.id`` and ``id.d`` (description joined to the run's
+unique ``id``), ``params`` (the table's values as written) and ``defaultParams`` (the declared
+parameters the table does not give).
 """
 
 from __future__ import annotations
 
-import ast
 import os
-import shlex
 
+from granum.batch.table import table_line
 from granum.yade.params import table as _table
+
+#: Environment variables naming the table line of a batch job, in order of precedence.
+BATCH_ENV = ("YADE_BATCH", "PARAM_TABLE")
+
+
+def _batch_spec() -> str | None:
+    return next((os.environ[k] for k in BATCH_ENV if os.environ.get(k)), None)
 
 
 def runningInBatch() -> bool:
     """Whether this script runs as a job of a parametric study."""
-    return "PARAM_TABLE" in os.environ
-
-
-def _parse_value(text: str):
-    try:
-        return ast.literal_eval(text)
-    except (ValueError, SyntaxError):
-        return text
-
-
-def read_table_line(path: str, line_no: int) -> dict:
-    """Values of line ``line_no`` (1-based, as in the file) of a YADE parameter table."""
-    with open(path) as fh:
-        lines = fh.read().splitlines()
-    names = None
-    previous: dict = {}
-    for k, raw in enumerate(lines, start=1):
-        text = raw.split("#", 1)[0].strip()
-        if not text:
-            continue
-        fields = shlex.split(text)
-        if names is None:
-            names = fields
-            continue
-        values = {n: (previous[n] if v == "=" else _parse_value(v)) for n, v in zip(names, fields, strict=False)}
-        previous = values
-        if k == line_no:
-            return values
-    raise ValueError(f"{path}: line {line_no} is not a parameter line of the table")
+    return _batch_spec() is not None
 
 
 def readParamsFromTable(tableFileLine=None, noTableOk=True, unknownOk=False, **defaults):
     """Declare parameters with defaults; in a batch job take their values from the table.
 
+    Args:
+        tableFileLine: ``"file:line"`` to read instead of the batch job's line.
+        noTableOk: if False, running outside a batch is an error.
+        unknownOk: accept table columns the script does not declare.
+        **defaults: the parameters and their default values.
+
     The values become attributes of ``yade.params.table`` (``from yade.params.table
     import *``). Returns the dict of values.
     """
-    spec = tableFileLine or os.environ.get("PARAM_TABLE")
-    values = dict(defaults)
-    if spec:
-        path, _, line = spec.rpartition(":")
-        row = read_table_line(path, int(line))
-        for name, v in row.items():
-            if name == "description" or name.startswith("!"):
-                continue
-            if name not in defaults and not unknownOk:
-                raise NameError(f"readParamsFromTable: parameter {name!r} of the table is not declared by the script")
-            values[name] = v
-    elif not noTableOk:
-        raise RuntimeError("readParamsFromTable: no parameter table given (PARAM_TABLE is not set)")
-    for name, v in values.items():
-        setattr(_table, name, v)
     from granum.yade.omega import O
 
-    O.tags["params"] = ",".join(f"{k}={v}" for k, v in values.items() if k in defaults)
+    spec = tableFileLine or _batch_spec()
+    values = dict(defaults)
+    if not spec:
+        if not noTableOk:
+            raise RuntimeError("readParamsFromTable: no parameter table given (not running in a batch; "
+                               "YADE_BATCH is not set)")
+        given = {}
+    else:
+        path, sep, number = spec.rpartition(":")
+        if not sep or not number.isdigit():
+            raise ValueError(f"readParamsFromTable: {spec!r} is not of the form file:line")
+        line = table_line(path, int(number))
+        given = line.params
+        unknown = [k for k in given if k not in defaults]
+        if unknown and not unknownOk:
+            raise NameError(f"readParamsFromTable: parameter {unknown[0]!r} of {path} is not declared by the "
+                            f"script (declared: {', '.join(defaults)}); pass unknownOk=True to accept it")
+        values.update(given)
+        desc = line.description
+        tags = O.tags
+        tags.update({"line": f"l{line.number}", "description": desc, "d.id": f"{desc}.{tags['id']}",
+                     "id.d": f"{tags['id']}.{desc}"})
+        given = {k: line.texts[k] for k in given}
+    for name, v in values.items():
+        setattr(_table, name, v)
+    O.tags["params"] = ",".join(f"{k}={t}" for k, t in given.items())
+    O.tags["defaultParams"] = ",".join(f"{k}={v}" for k, v in defaults.items() if k not in given)
     return values
 
 
