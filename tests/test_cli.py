@@ -92,3 +92,59 @@ def test_interactive_prompt_reads_commands(tmp_path):
                        timeout=300, cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     assert "ITER 0 0" in r.stdout
+
+
+PROGRESS_SCRIPT = """
+    import time
+    O.bodies.append(sphere((0, 0, 0), 1))
+    O.engines = [ForceResetter(), NewtonIntegrator(), PyRunner(command='time.sleep(0.002)', iterPeriod=1)]
+    O.dt = 1e-3
+    O.run(1000, True)
+    print("END", O.iter)
+"""
+
+
+def _granum_in_terminal(tmp_path, source: str, env: dict) -> str:
+    """Run a script with the launcher's stdout and stderr on a pseudo-terminal; return what it showed."""
+    import pty
+
+    script = tmp_path / "script.py"
+    script.write_text(textwrap.dedent(source))
+    master, slave = pty.openpty()
+    proc = subprocess.Popen([sys.executable, "-m", "granum", str(script)], stdout=slave, stderr=slave,
+                            stdin=subprocess.DEVNULL, cwd=tmp_path, env={**os.environ, **env})
+    os.close(slave)
+    chunks = []
+    while True:
+        try:
+            data = os.read(master, 4096)
+        except OSError:  # EIO: the child closed the terminal
+            break
+        if not data:
+            break
+        chunks.append(data)
+    os.close(master)
+    assert proc.wait(timeout=600) == 0
+    return b"".join(chunks).decode(errors="replace")
+
+
+@pytest.mark.parametrize("where", ["terminal", "pipe", "batch job", "turned off"])
+def test_long_runs_show_a_progress_bar_only_in_a_terminal(tmp_path, where):
+    """O.run(n, True) lasting over a second draws a bar on a terminal, never into pipes, logs of batch jobs
+    or with GRANUM_PROGRESS=0."""
+    env = {"batch job": {"YADE_BATCH": "x.table:2"}, "turned off": {"GRANUM_PROGRESS": "0"}}.get(where, {})
+    env = {k: v for k, v in os.environ.items() if k not in ("YADE_BATCH", "PARAM_TABLE")} | env
+    if where == "pipe":
+        script = tmp_path / "script.py"
+        script.write_text(textwrap.dedent(PROGRESS_SCRIPT))
+        r = subprocess.run([sys.executable, "-m", "granum", str(script)], capture_output=True, text=True,
+                           cwd=tmp_path, env=env, timeout=600)
+        shown = r.stdout + r.stderr
+    else:
+        shown = _granum_in_terminal(tmp_path, PROGRESS_SCRIPT, env)
+    assert "END 1000" in shown
+    if where == "terminal":
+        assert "] 100% 1000/1000 steps" in shown
+        assert "steps/s" in shown and "\r[" in shown
+    else:
+        assert "steps/s" not in shown and "[###" not in shown

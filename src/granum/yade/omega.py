@@ -26,6 +26,7 @@ from granum.yade.bodies import BodyContainer
 from granum.yade.cell import Cell
 from granum.yade.interactions import InteractionContainer
 from granum.yade.materials import MaterialContainer, default_material
+from granum.yade.progress import Progress, progress_wanted
 
 
 class EnergyTracker:
@@ -272,19 +273,24 @@ class Omega:
     def running(self) -> bool:
         return self._running
 
-    def _loop(self) -> None:
+    def _loop(self, progress: Progress | None = None) -> None:
         scene = self._scene
+        first = scene.iter
         try:
             while not self._stop:
                 target = self.stopAtIter
                 limit = target - scene.iter if target > scene.iter else 1 << 62
                 stop_time = self.stopAtTime if self.stopAtTime > scene.time else np.inf
                 self._runner.advance(limit, stop_time)
+                if progress is not None:
+                    progress.update(scene.iter - first)
                 if scene.iter == target or (stop_time < np.inf and scene.time >= stop_time):
                     break
         finally:
             self._running = False
             self._stop = False
+            if progress is not None:
+                progress.finish(scene.iter - first)
 
     def _background(self) -> None:
         try:
@@ -296,7 +302,11 @@ class Omega:
             traceback.print_exc()
 
     def run(self, nSteps: int = -1, wait: bool = False) -> None:
-        """Run ``nSteps`` steps (all if negative) in the background; with ``wait`` block until done."""
+        """Run ``nSteps`` steps (all if negative) in the background; with ``wait`` block until done.
+
+        A run of ``nSteps`` with ``wait`` that lasts more than a second shows a progress bar when
+        standard error is a terminal (see :mod:`granum.yade.progress`).
+        """
         if self._running:
             return
         if nSteps > 0:
@@ -305,10 +315,7 @@ class Omega:
         self._stop = False
         self._running = True
         if wait:
-            try:
-                self._loop()
-            except KeyboardInterrupt:
-                raise
+            self._loop(Progress(nSteps) if nSteps > 0 and progress_wanted(sys.stderr) else None)
             return
         self._thread = threading.Thread(target=self._background, name="granum-run", daemon=True)
         self._thread.start()
