@@ -252,3 +252,43 @@ def test_frame_specifications(frames, tmp_path):
     assert frame_files(str(tmp_path / "f-*.png")) == frames
     assert frame_files(str(tmp_path / "f-%05d.png")) == frames
     assert frame_files(str(tmp_path / "g-%05d.png")) == []
+
+
+def test_tutorial_05_runs_headless_and_leaves_vtk_pictures_and_a_video(tmp_path):
+    """The documentation's 05-3d-postprocessing.py, unmodified, run for its 20,000 steps as the GUI's
+    Start button would: VTK series for ParaView, snapshots showing the force chains, the video."""
+    import pathlib
+    import shutil
+    import subprocess
+    import sys
+
+    import imageio_ffmpeg
+    import vtk
+
+    tutorial = pathlib.Path(__file__).resolve().parents[1] / "examples" / "tutorial" / "05-3d-postprocessing.py"
+    shutil.copy(tutorial, tmp_path)
+    (tmp_path / "start.py").write_text("exec(open('05-3d-postprocessing.py').read())\nO.run(20001, True)\n")
+    r = subprocess.run([sys.executable, "-m", "granum", "start.py"], cwd=tmp_path, capture_output=True, text=True,
+                       timeout=900)
+    assert r.returncode == 0, r.stderr
+    spheres = sorted(tmp_path.glob("3d-vtk-spheres.*.vtu"), key=lambda p: int(p.name.split(".")[1]))
+    assert [int(p.name.split(".")[1]) for p in spheres] == list(range(0, 20001, 1000))
+    counts = []
+    for p in (spheres[0], spheres[-1]):
+        reader = vtk.vtkXMLUnstructuredGridReader()
+        reader.SetFileName(str(p))
+        reader.Update()
+        grid = reader.GetOutput()
+        radii = grid.GetPointData().GetArray("radii")
+        assert radii is not None and 0.04 <= radii.GetRange()[0] <= radii.GetRange()[1] <= 0.16  # rMean .1 +-60%
+        counts.append(grid.GetNumberOfPoints())
+    assert counts[0] == counts[1] > 50
+    assert (tmp_path / "3d-vtk-spheres.pvd").read_text().count("<DataSet") == 21
+    pictures = sorted(tmp_path.glob("3d-*.png"))
+    assert len(pictures) == 100  # iterPeriod=200 up to the 20,000th step, then the video is made
+    img = np.asarray(Image.open(pictures[-1]).convert("RGB")).astype(int)
+    drawn = np.any(np.abs(img - BACKGROUND) > 30, axis=2)
+    assert drawn.mean() > 0.01, "the snapshot shows nothing but background"
+    assert len({tuple(c) for c in img[drawn][::7]}) > 20, "force chains are drawn in colours of their force"
+    nframes, _ = imageio_ffmpeg.count_frames_and_secs(str(tmp_path / "3d.mpeg"))
+    assert nframes == 100
