@@ -132,13 +132,14 @@ _warm: set[int] = set()
 
 
 def call(fn, *args):
-    """Call compiled ``fn`` from Python; its first call in this process holds :func:`compile_lock`."""
-    if id(fn) in _warm:
-        return fn(*args)
-    with compile_lock():
-        out = fn(*args)
-    _warm.add(id(fn))
-    return out
+    """Call compiled ``fn`` from Python, compiling it (or loading it from the cache) under
+    :func:`compile_lock` the first time. Only the compilation holds the lock: a long first call
+    must not keep other processes (the jobs of a batch) from running their own kernels."""
+    if id(fn) not in _warm:
+        with compile_lock():
+            fn.compile(tuple(fn.typeof_pyval(a) for a in args))
+        _warm.add(id(fn))
+    return fn(*args)
 
 
 __all__ = ["call", "compile_lock", "jit", "kernel", "njit", "prange", "PARALLEL_THRESHOLD", "CACHE_DIR", "SOURCE_HASH"]

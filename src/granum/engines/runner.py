@@ -79,7 +79,9 @@ class Runner:
         self.scene = scene
         self.omega = omega
         self._plan: Plan | None = None
-        self._step_seconds = 1e-6   # running estimate of the wall time of one step
+        # running estimate of the wall time of one step; pessimistic until measured, so that the first
+        # chunk is one step and O.pause(), Ctrl-C and realPeriod are honoured from the start
+        self._step_seconds = CHUNK_SECONDS
 
     def plan(self) -> Plan:
         engines = self.scene.engines
