@@ -46,15 +46,18 @@ def cache_root() -> pathlib.Path:
     return pathlib.Path(base)
 
 
+#: ``GRANUM_NOPAR=1`` compiles the parallel variants of the kernels as plain loops, to check them
+#: against the parallel ones; such code is cached apart.
+SERIAL_ONLY = os.environ.get("GRANUM_NOPAR", "") not in ("", "0")
 SOURCE_HASH = source_hash()
-CACHE_DIR = cache_root() / SOURCE_HASH
+CACHE_DIR = cache_root() / (SOURCE_HASH + ("-nopar" if SERIAL_ONLY else ""))
 
 
 def _prune_old_caches(keep: int = 3) -> None:
     """Remove cache directories of older granum sources, keeping the newest few."""
     root = cache_root()
     try:
-        dirs = sorted((d for d in root.iterdir() if d.is_dir() and d.name != SOURCE_HASH),
+        dirs = sorted((d for d in root.iterdir() if d.is_dir() and d.name != CACHE_DIR.name),
                       key=lambda d: d.stat().st_mtime, reverse=True)
     except OSError:
         return
@@ -84,6 +87,9 @@ numba.get_num_threads()
 #: Loops shorter than this run serially: below it, waking the thread pool costs more
 #: than the loop. The choice depends on the size only, so it never changes results.
 PARALLEL_THRESHOLD = 4096
+#: Items (bodies, pairs, contacts) per iteration of block-wise parallel loops. Fixed, so that
+#: results never depend on the number of threads.
+BLOCK = 512
 
 
 def jit(fn=None, **kw):
@@ -107,7 +113,7 @@ def kernel(fn):
                               fn.__defaults__, fn.__closure__)
     twin.__qualname__ = fn.__qualname__ + "_parallel"
     twin.__module__ = fn.__module__
-    return jit(fn), jit(twin, parallel=os.environ.get("GRANUM_NOPAR") is None)
+    return jit(fn), jit(twin, parallel=not SERIAL_ONLY)
 
 
 @contextlib.contextmanager
@@ -142,4 +148,5 @@ def call(fn, *args):
     return fn(*args)
 
 
-__all__ = ["call", "compile_lock", "jit", "kernel", "njit", "prange", "PARALLEL_THRESHOLD", "CACHE_DIR", "SOURCE_HASH"]
+__all__ = ["call", "compile_lock", "jit", "kernel", "njit", "prange", "BLOCK", "PARALLEL_THRESHOLD", "CACHE_DIR",
+           "SOURCE_HASH"]

@@ -1,11 +1,25 @@
 """Records of arrays passed to compiled kernels by reference.
 
 Kernels receive the scene's arrays bundled in one *record*, a Numba structure
-reference: it travels as a single pointer, so passing it through many small
-compiled functions costs nothing, and compiled code may replace one of its arrays
-(the interaction storage grows inside the step loop). Python keeps the arrays in an
-ordinary named tuple and converts with :meth:`RecordSpec.to_record` /
+reference: it travels as a single pointer, and compiled code may replace one of its
+arrays (the interaction storage grows inside the step loop). Python keeps the arrays
+in an ordinary named tuple and converts with :meth:`RecordSpec.to_record` /
 :meth:`RecordSpec.from_record`; both conversions are compiled and cached on disk.
+
+**Raw views for hot loops.** A record is reference counted, and so is every array
+read from it: compiled code updates those counters -- atomic operations -- each time
+a record is passed to a function or a field is read. In the per-contact loops that
+made two thirds of the run time, and with two threads the counters' cache lines
+bounced between the cores, so a step got slower with ``-j2`` than with ``-j1``.
+Hot loops therefore work on :func:`raw` views: a plain pointer to the record's
+fields, whose arrays come out *borrowed* (:func:`borrow`: no memory-info pointer), so
+no reference is ever counted. A raw view is valid while its record is alive and
+none of the record's arrays is replaced: stages take it from their own arguments
+(kept alive by their caller) after the last replacement.
+
+Named tuples of arrays are no alternative: Numba passes them by value (every array
+of the scene at every call) and loses writes made through their fields directly in a
+``prange`` loop body (numba#7135).
 """
 
 from __future__ import annotations
@@ -14,7 +28,10 @@ from collections import namedtuple
 
 import numpy as np
 from numba import types
+from numba.core import cgutils
+from numba.core.typing.templates import AttributeTemplate
 from numba.experimental import structref
+from numba.extending import infer_getattr, intrinsic, lower_getattr_generic, models, register_model
 from numba.np import numpy_support
 
 from granum._jit import call
@@ -34,6 +51,71 @@ class Record(structref.StructRefProxy):
 
 
 structref.define_boxing(RecordType, Record)
+
+
+def _borrowed(context, builder, ty, value):
+    """LLVM value of ``value`` (Numba type ``ty``) with the memory-info pointer of every array cleared."""
+    if isinstance(ty, types.Array):
+        ary = context.make_array(ty)(context, builder, value=value)
+        ary.meminfo = cgutils.get_null_value(ary.meminfo.type)
+        ary.parent = cgutils.get_null_value(ary.parent.type)
+        return ary._getvalue()
+    if isinstance(ty, types.BaseTuple):
+        for k, t in enumerate(ty):
+            value = builder.insert_value(value, _borrowed(context, builder, t, builder.extract_value(value, k)), k)
+    return value
+
+
+@intrinsic
+def borrow(typingctx, a):
+    """``a`` -- an array, or a tuple of arrays, scalars and tuples -- without ownership of its arrays
+    (compiled code only): same data, shapes and strides, no memory-info pointers, so reference
+    counting does nothing. Whoever owns the arrays must keep them alive while the result is used."""
+
+    def codegen(context, builder, sig, args):
+        return _borrowed(context, builder, sig.args[0], args[0])
+
+    return a(a), codegen
+
+
+class RawRecordType(types.Type):
+    """Numba type of a raw view of a record of type ``record_type`` (see the module docstring)."""
+
+    def __init__(self, record_type: RecordType):
+        self.record_type = record_type
+        super().__init__(name=f"Raw[{record_type.name}]")
+
+
+register_model(RawRecordType)(models.OpaqueModel)
+
+
+@infer_getattr
+class _RawRecordAttributes(AttributeTemplate):
+    key = RawRecordType
+
+    def generic_resolve(self, typ, attr):
+        return typ.record_type.field_dict.get(attr)
+
+
+@lower_getattr_generic(RawRecordType)
+def _raw_getattr(context, builder, typ, value, attr):
+    payload = typ.record_type.get_data_type()
+    ptr = builder.bitcast(value, context.data_model_manager[payload].get_value_type().as_pointer())
+    data = cgutils.create_struct_proxy(payload)(context, builder, ref=ptr)
+    return _borrowed(context, builder, typ.record_type.field_dict[attr], getattr(data, attr))
+
+
+@intrinsic
+def raw(typingctx, record):
+    """Raw view of ``record`` (compiled code only): a pointer to its fields, read as borrowed arrays."""
+    if not isinstance(record, RecordType):
+        return None
+
+    def codegen(context, builder, sig, args):
+        ptr = structref._Utils(context, builder, sig.args[0]).get_data_pointer(args[0])
+        return builder.bitcast(ptr, cgutils.voidptr_t)
+
+    return RawRecordType(record)(record), codegen
 
 
 class RecordSpec:

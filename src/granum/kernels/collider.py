@@ -25,7 +25,7 @@ import math
 
 import numpy as np
 
-from granum._jit import PARALLEL_THRESHOLD, jit, kernel, prange
+from granum._jit import BLOCK, PARALLEL_THRESHOLD, jit, kernel, prange
 from granum.core.arrays import I_NBODIES, I_PERIODIC, S_VERLET
 from granum.core.bodies import ShapeKind
 from granum.core.contacts import (
@@ -43,12 +43,11 @@ from granum.core.contacts import (
     I_PAIR,
     STATUS_TOO_LARGE,
 )
+from granum.core.records import borrow, raw
 from granum.kernels.collider_periodic import find_pairs_periodic
 from granum.kernels.dispatch import bound_call
 from granum.kernels.pairing import may_collide
 from granum.physics.vec import load3, load4, norm, quat_angle, quat_mul, sub
-
-BLOCK = 512  # bodies per block of block-wise loops (fixed: results never depend on threads)
 
 
 @jit
@@ -68,22 +67,27 @@ def body_reach(i, S):
     return 0.0
 
 
+@jit
+def moved_block(b, S, nb, flags):
+    """Flag block ``b`` of bodies if one of them left its Verlet-enlarged bound."""
+    verlet = S.scal[S_VERLET]
+    for i in range(b * BLOCK, min(nb, (b + 1) * BLOCK)):
+        if not S.alive[i] or S.bound_min[i, 0] > S.bound_max[i, 0]:
+            continue
+        d = norm(sub(load3(S.pos, i), load3(S.bound_pos, i)))
+        if S.shape_kind[i] != ShapeKind.SPHERE:
+            q = load4(S.ori, i)
+            q0 = load4(S.bound_ori, i)
+            d += quat_angle(quat_mul(q, (q0[0], -q0[1], -q0[2], -q0[3]))) * body_reach(i, S)
+        if d > verlet or (verlet == 0.0 and d > 0.0) or not d == d:
+            flags[b] = 1
+            return
+    flags[b] = 0
+
+
 def _moved_blocks(S, nb, flags):
     for b in prange(flags.shape[0]):
-        moved = 0
-        verlet = S.scal[S_VERLET]
-        for i in range(b * BLOCK, min(nb, (b + 1) * BLOCK)):
-            if not S.alive[i] or S.bound_min[i, 0] > S.bound_max[i, 0]:
-                continue
-            d = norm(sub(load3(S.pos, i), load3(S.bound_pos, i)))
-            if S.shape_kind[i] != ShapeKind.SPHERE:
-                q = load4(S.ori, i)
-                q0 = load4(S.bound_ori, i)
-                d += quat_angle(quat_mul(q, (q0[0], -q0[1], -q0[2], -q0[3]))) * body_reach(i, S)
-            if d > verlet or (verlet == 0.0 and d > 0.0) or not d == d:
-                moved = 1
-                break
-        flags[b] = moved
+        moved_block(b, S, nb, flags)
 
 
 moved_blocks, moved_blocks_par = kernel(_moved_blocks)
@@ -100,22 +104,28 @@ def any_body_moved(S, nb):
     return flags.any()
 
 
+@jit
+def bound_body(i, S, bound_code, bound_prm, verlet):
+    """Bound of body ``i`` enlarged by ``verlet``, and the position and orientation it was taken at."""
+    out = np.empty(6)
+    code = bound_code[S.shape_kind[i]] if S.alive[i] else -1
+    if code < 0:
+        for k in range(3):
+            S.bound_min[i, k] = math.inf   # no bound: never collides
+            S.bound_max[i, k] = -math.inf
+        return
+    bound_call(code, i, S, bound_prm, out)
+    for k in range(3):
+        S.bound_min[i, k] = out[k] - verlet
+        S.bound_max[i, k] = out[3 + k] + verlet
+        S.bound_pos[i, k] = S.pos[i, k]
+    for k in range(4):
+        S.bound_ori[i, k] = S.ori[i, k]
+
+
 def _compute_bounds(S, nb, bound_code, bound_prm, verlet):
     for i in prange(nb):
-        out = np.empty(6)
-        code = bound_code[S.shape_kind[i]] if S.alive[i] else -1
-        if code < 0:
-            for k in range(3):
-                S.bound_min[i, k] = math.inf   # no bound: never collides
-                S.bound_max[i, k] = -math.inf
-            continue
-        bound_call(code, i, S, bound_prm, out)
-        for k in range(3):
-            S.bound_min[i, k] = out[k] - verlet
-            S.bound_max[i, k] = out[3 + k] + verlet
-            S.bound_pos[i, k] = S.pos[i, k]
-        for k in range(4):
-            S.bound_ori[i, k] = S.ori[i, k]
+        bound_body(i, S, bound_code, bound_prm, verlet)
 
 
 compute_bounds, compute_bounds_par = kernel(_compute_bounds)
@@ -141,58 +151,76 @@ def cell_range(key, keys_sorted, dense_start):
     return a, b
 
 
+@jit
+def partners_of(i, S, nb, small, cell, dims, order, keys_sorted, dense_start, large, avoid_self, count, start, out):
+    """Partners j > i of body ``i``: counted into ``count[i]`` (``out`` empty) or written from ``start[i]``."""
+    fill = out.shape[0] > 0
+    if not (S.bound_min[i, 0] <= S.bound_max[i, 0]):
+        return
+    n = 0
+    base = start[i] if fill else 0
+    if small[i]:
+        for dx in range(-1, 2):
+            cx = cell[i, 0] + dx
+            if cx < 0 or cx >= dims[0]:
+                continue
+            for dy in range(-1, 2):
+                cy = cell[i, 1] + dy
+                if cy < 0 or cy >= dims[1]:
+                    continue
+                for dz in range(-1, 2):
+                    cz = cell[i, 2] + dz
+                    if cz < 0 or cz >= dims[2]:
+                        continue
+                    a, b = cell_range((cx * dims[1] + cy) * dims[2] + cz, keys_sorted, dense_start)
+                    for t in range(a, b):
+                        j = order[t]
+                        if j > i and overlap(S, i, j) and may_collide(S, i, j, avoid_self):
+                            if fill:
+                                out[base + n, 0] = i
+                                out[base + n, 1] = j
+                            n += 1
+        for j in large:
+            if j > i and overlap(S, i, j) and may_collide(S, i, j, avoid_self):
+                if fill:
+                    out[base + n, 0] = i
+                    out[base + n, 1] = j
+                n += 1
+        if fill:  # insertion sort of the (short) partner list by id
+            for u in range(base + 1, base + n):
+                v = out[u, 1]
+                w = u - 1
+                while w >= base and out[w, 1] > v:
+                    out[w + 1, 1] = out[w, 1]
+                    w -= 1
+                out[w + 1, 1] = v
+    else:
+        for j in range(i + 1, nb):  # in id order: already sorted
+            if S.bound_min[j, 0] <= S.bound_max[j, 0] and overlap(S, i, j) and may_collide(S, i, j, avoid_self):
+                if fill:
+                    out[base + n, 0] = i
+                    out[base + n, 1] = j
+                n += 1
+    if not fill:
+        count[i] = n
+
+
+@jit
+def partners_block(b, S, nb, small, cell, dims, order, keys_sorted, dense_start, large, avoid_self, count, start,
+                   out):
+    """Bodies of block ``b`` (borrowing the arrays: no reference counting per body)."""
+    small, cell, dims, order, keys_sorted, dense_start, large, count, start, out = borrow(
+        (small, cell, dims, order, keys_sorted, dense_start, large, count, start, out))
+    for i in range(b * BLOCK, min(nb, (b + 1) * BLOCK)):
+        partners_of(i, S, nb, small, cell, dims, order, keys_sorted, dense_start, large, avoid_self, count, start,
+                    out)
+
+
 def _partners(S, nb, small, cell, dims, order, keys_sorted, dense_start, large, avoid_self, count, start, out):
     """Pass 1 (``out`` empty): count partners j > i of each body. Pass 2: write them."""
-    fill = out.shape[0] > 0
-    for i in prange(nb):
-        if not (S.bound_min[i, 0] <= S.bound_max[i, 0]):
-            continue
-        n = 0
-        base = start[i] if fill else 0
-        if small[i]:
-            for dx in range(-1, 2):
-                cx = cell[i, 0] + dx
-                if cx < 0 or cx >= dims[0]:
-                    continue
-                for dy in range(-1, 2):
-                    cy = cell[i, 1] + dy
-                    if cy < 0 or cy >= dims[1]:
-                        continue
-                    for dz in range(-1, 2):
-                        cz = cell[i, 2] + dz
-                        if cz < 0 or cz >= dims[2]:
-                            continue
-                        a, b = cell_range((cx * dims[1] + cy) * dims[2] + cz, keys_sorted, dense_start)
-                        for t in range(a, b):
-                            j = order[t]
-                            if j > i and overlap(S, i, j) and may_collide(S, i, j, avoid_self):
-                                if fill:
-                                    out[base + n, 0] = i
-                                    out[base + n, 1] = j
-                                n += 1
-            for j in large:
-                if j > i and overlap(S, i, j) and may_collide(S, i, j, avoid_self):
-                    if fill:
-                        out[base + n, 0] = i
-                        out[base + n, 1] = j
-                    n += 1
-            if fill:  # insertion sort of the (short) partner list by id
-                for u in range(base + 1, base + n):
-                    v = out[u, 1]
-                    w = u - 1
-                    while w >= base and out[w, 1] > v:
-                        out[w + 1, 1] = out[w, 1]
-                        w -= 1
-                    out[w + 1, 1] = v
-        else:
-            for j in range(i + 1, nb):  # in id order: already sorted
-                if S.bound_min[j, 0] <= S.bound_max[j, 0] and overlap(S, i, j) and may_collide(S, i, j, avoid_self):
-                    if fill:
-                        out[base + n, 0] = i
-                        out[base + n, 1] = j
-                    n += 1
-        if not fill:
-            count[i] = n
+    for b in prange((nb + BLOCK - 1) // BLOCK):
+        partners_block(b, S, nb, small, cell, dims, order, keys_sorted, dense_start, large, avoid_self, count,
+                       start, out)
 
 
 partners, partners_par = kernel(_partners)
@@ -291,24 +319,39 @@ def find_pair(pairs, start, a, b):
     return -1
 
 
+@jit
+def relink_contact(c, C, pairs, start, cells, pair_con):
+    """Attach live contact ``c`` to its pair in the new pair list (or to none: -1)."""
+    if not C.con_i[c, I_FLAGS] & FLAG_ALIVE:
+        return
+    id1 = C.con_i[c, I_ID1]
+    id2 = C.con_i[c, I_ID2]
+    a = min(id1, id2)
+    b = max(id1, id2)
+    p = find_pair(pairs, start, a, b)
+    if p >= 0:
+        # the pair must join the same periodic images as the contact
+        sign = 1 if a == id1 else -1
+        for k in range(3):
+            if cells[p, k] != sign * C.con_i[c, I_CELL + k]:
+                p = -1
+                break
+    C.con_i[c, I_PAIR] = p
+    if p >= 0:
+        pair_con[p] = c
+
+
+@jit
+def relink_block(b, C, pairs, start, cells, pair_con):
+    """Contacts of block ``b`` (borrowing the lists: no reference counting per contact)."""
+    pairs, start, cells, pair_con = borrow((pairs, start, cells, pair_con))
+    for c in range(b * BLOCK, min(C.ctr[C_CONTACTS], (b + 1) * BLOCK)):
+        relink_contact(c, C, pairs, start, cells, pair_con)
+
+
 def _relink(C, pairs, start, cells, pair_con):
-    for c in prange(C.ctr[C_CONTACTS]):
-        if C.con_i[c, I_FLAGS] & FLAG_ALIVE:
-            id1 = C.con_i[c, I_ID1]
-            id2 = C.con_i[c, I_ID2]
-            a = min(id1, id2)
-            b = max(id1, id2)
-            p = find_pair(pairs, start, a, b)
-            if p >= 0:
-                # the pair must join the same periodic images as the contact
-                sign = 1 if a == id1 else -1
-                for k in range(3):
-                    if cells[p, k] != sign * C.con_i[c, I_CELL + k]:
-                        p = -1
-                        break
-            C.con_i[c, I_PAIR] = p
-            if p >= 0:
-                pair_con[p] = c
+    for b in prange((C.ctr[C_CONTACTS] + BLOCK - 1) // BLOCK):
+        relink_block(b, C, pairs, start, cells, pair_con)
 
 
 relink, relink_par = kernel(_relink)
@@ -331,7 +374,8 @@ def collider_stage(S, C, P):
     bound_code, bound_prm, verlet_dist, avoid_self = P
     nb = S.iscal[I_NBODIES]
     periodic = S.iscal[I_PERIODIC] != 0
-    if C.ctr[C_COLLIDE] == 0 and not any_body_moved(S, nb) and not (periodic and cell_moved(S, S.scal[S_VERLET])):
+    R = raw(S)  # loops over bodies read the scene through a raw view (see granum.core.records)
+    if C.ctr[C_COLLIDE] == 0 and not any_body_moved(R, nb) and not (periodic and cell_moved(S, S.scal[S_VERLET])):
         return
     verlet = verlet_dist
     if verlet < 0.0:
@@ -342,20 +386,20 @@ def collider_stage(S, C, P):
         verlet = -verlet * rmin if rmin < math.inf else 0.0
     S.scal[S_VERLET] = verlet
     if nb < PARALLEL_THRESHOLD:
-        compute_bounds(S, nb, bound_code, bound_prm, verlet)
+        compute_bounds(R, nb, bound_code, bound_prm, verlet)
     else:
-        compute_bounds_par(S, nb, bound_code, bound_prm, verlet)
+        compute_bounds_par(R, nb, bound_code, bound_prm, verlet)
     if periodic:
         # bodies and the cell share the Verlet budget: each may use half of it
         S.scal[S_VERLET] = 0.5 * verlet
         S.cell_bound_hsize[:, :] = S.cell_hsize
-        pairs, start, cells, too_large = find_pairs_periodic(S, nb, avoid_self)
+        pairs, start, cells, too_large = find_pairs_periodic(R, nb, avoid_self)
         if too_large >= 0:
             C.ctr[C_STATUS] = STATUS_TOO_LARGE
             C.ctr[C_ERR_A] = too_large
             return
     else:
-        pairs, start = find_pairs(S, nb, avoid_self)
+        pairs, start = find_pairs(R, nb, avoid_self)
         cells = np.zeros((pairs.shape[0], 3), np.int32)
     n = pairs.shape[0]
     cap = max(n, 16)
@@ -365,9 +409,9 @@ def collider_stage(S, C, P):
     pair_cell[:n] = cells
     pair_con = np.full(cap, -1, np.int32)
     if C.ctr[C_CONTACTS] < PARALLEL_THRESHOLD:
-        relink(C, pairs, start, cells, pair_con)
+        relink(raw(C), pairs, start, cells, pair_con)
     else:
-        relink_par(C, pairs, start, cells, pair_con)
+        relink_par(raw(C), pairs, start, cells, pair_con)
     C.ctr[C_PAIRS] = n
     C.ctr[C_COLLIDE] = 0
     C.ctr[C_COLLIDER_RUNS] += 1

@@ -22,7 +22,8 @@ import math
 
 import numpy as np
 
-from granum._jit import PARALLEL_THRESHOLD, jit, kernel, prange
+from granum._jit import BLOCK, PARALLEL_THRESHOLD, jit, kernel, prange
+from granum.core.records import borrow
 from granum.kernels.pairing import may_collide
 
 
@@ -50,73 +51,89 @@ def fractional_boxes(S, nb):
     return s, p, hw
 
 
+@jit
+def partners_of(i, S, s, p, hw, cell, dims, order, start_cell, avoid_self, count, start, out, out_cell):
+    """Partners j > i of body ``i`` with their image shifts: counted into ``count[i]`` (``out`` empty) or
+    written from ``start[i]``, sorted by j."""
+    fill = out.shape[0] > 0
+    if hw[i, 0] < 0.0:
+        return
+    n = 0
+    base = start[i] if fill else 0
+    for dx in range(-1, 2):
+        if dims[0] < 3 and dx < 0 or dims[0] == 1 and dx > 0:
+            continue  # fewer than 3 cells: visit each distinct cell once
+        cx = (cell[i, 0] + dx) % dims[0]
+        for dy in range(-1, 2):
+            if dims[1] < 3 and dy < 0 or dims[1] == 1 and dy > 0:
+                continue
+            cy = (cell[i, 1] + dy) % dims[1]
+            for dz in range(-1, 2):
+                if dims[2] < 3 and dz < 0 or dims[2] == 1 and dz > 0:
+                    continue
+                cz = (cell[i, 2] + dz) % dims[2]
+                key = (cx * dims[1] + cy) * dims[2] + cz
+                for t in range(start_cell[key], start_cell[key + 1]):
+                    j = order[t]
+                    if j <= i or not may_collide(S, i, j, avoid_self):
+                        continue
+                    hit = True
+                    k0 = 0
+                    k1 = 0
+                    k2 = 0
+                    for a in range(3):
+                        d = s[i, a] - s[j, a]
+                        img = round(d)
+                        if abs(d - img) > hw[i, a] + hw[j, a]:
+                            hit = False
+                            break
+                        if a == 0:
+                            k0 = int(img) + p[i, 0] - p[j, 0]
+                        elif a == 1:
+                            k1 = int(img) + p[i, 1] - p[j, 1]
+                        else:
+                            k2 = int(img) + p[i, 2] - p[j, 2]
+                    if hit:
+                        if fill:
+                            out[base + n, 0] = i
+                            out[base + n, 1] = j
+                            out_cell[base + n, 0] = k0
+                            out_cell[base + n, 1] = k1
+                            out_cell[base + n, 2] = k2
+                        n += 1
+    if fill:  # insertion sort by partner id (rows of out and out_cell together)
+        for u in range(base + 1, base + n):
+            v = out[u, 1]
+            c0 = out_cell[u, 0]
+            c1 = out_cell[u, 1]
+            c2 = out_cell[u, 2]
+            w = u - 1
+            while w >= base and out[w, 1] > v:
+                out[w + 1, 1] = out[w, 1]
+                for a in range(3):
+                    out_cell[w + 1, a] = out_cell[w, a]
+                w -= 1
+            out[w + 1, 1] = v
+            out_cell[w + 1, 0] = c0
+            out_cell[w + 1, 1] = c1
+            out_cell[w + 1, 2] = c2
+    else:
+        count[i] = n
+
+
+@jit
+def partners_block(b, S, nb, s, p, hw, cell, dims, order, start_cell, avoid_self, count, start, out, out_cell):
+    """Bodies of block ``b`` (borrowing the arrays: no reference counting per body)."""
+    s, p, hw, cell, dims, order, start_cell, count, start, out, out_cell = borrow(
+        (s, p, hw, cell, dims, order, start_cell, count, start, out, out_cell))
+    for i in range(b * BLOCK, min(nb, (b + 1) * BLOCK)):
+        partners_of(i, S, s, p, hw, cell, dims, order, start_cell, avoid_self, count, start, out, out_cell)
+
+
 def _partners(S, nb, s, p, hw, cell, dims, order, start_cell, avoid_self, count, start, out, out_cell):
     """Pass 1 (``out`` empty): count partners j > i. Pass 2: write them, sorted by j."""
-    fill = out.shape[0] > 0
-    for i in prange(nb):
-        if hw[i, 0] < 0.0:
-            continue
-        n = 0
-        base = start[i] if fill else 0
-        for dx in range(-1, 2):
-            if dims[0] < 3 and dx < 0 or dims[0] == 1 and dx > 0:
-                continue  # fewer than 3 cells: visit each distinct cell once
-            cx = (cell[i, 0] + dx) % dims[0]
-            for dy in range(-1, 2):
-                if dims[1] < 3 and dy < 0 or dims[1] == 1 and dy > 0:
-                    continue
-                cy = (cell[i, 1] + dy) % dims[1]
-                for dz in range(-1, 2):
-                    if dims[2] < 3 and dz < 0 or dims[2] == 1 and dz > 0:
-                        continue
-                    cz = (cell[i, 2] + dz) % dims[2]
-                    key = (cx * dims[1] + cy) * dims[2] + cz
-                    for t in range(start_cell[key], start_cell[key + 1]):
-                        j = order[t]
-                        if j <= i or not may_collide(S, i, j, avoid_self):
-                            continue
-                        hit = True
-                        k0 = 0
-                        k1 = 0
-                        k2 = 0
-                        for a in range(3):
-                            d = s[i, a] - s[j, a]
-                            img = round(d)
-                            if abs(d - img) > hw[i, a] + hw[j, a]:
-                                hit = False
-                                break
-                            if a == 0:
-                                k0 = int(img) + p[i, 0] - p[j, 0]
-                            elif a == 1:
-                                k1 = int(img) + p[i, 1] - p[j, 1]
-                            else:
-                                k2 = int(img) + p[i, 2] - p[j, 2]
-                        if hit:
-                            if fill:
-                                out[base + n, 0] = i
-                                out[base + n, 1] = j
-                                out_cell[base + n, 0] = k0
-                                out_cell[base + n, 1] = k1
-                                out_cell[base + n, 2] = k2
-                            n += 1
-        if fill:  # insertion sort by partner id (rows of out and out_cell together)
-            for u in range(base + 1, base + n):
-                v = out[u, 1]
-                c0 = out_cell[u, 0]
-                c1 = out_cell[u, 1]
-                c2 = out_cell[u, 2]
-                w = u - 1
-                while w >= base and out[w, 1] > v:
-                    out[w + 1, 1] = out[w, 1]
-                    for a in range(3):
-                        out_cell[w + 1, a] = out_cell[w, a]
-                    w -= 1
-                out[w + 1, 1] = v
-                out_cell[w + 1, 0] = c0
-                out_cell[w + 1, 1] = c1
-                out_cell[w + 1, 2] = c2
-        else:
-            count[i] = n
+    for b in prange((nb + BLOCK - 1) // BLOCK):
+        partners_block(b, S, nb, s, p, hw, cell, dims, order, start_cell, avoid_self, count, start, out, out_cell)
 
 
 partners, partners_par = kernel(_partners)

@@ -8,14 +8,20 @@ from __future__ import annotations
 
 from granum._jit import PARALLEL_THRESHOLD, jit, kernel, prange
 from granum.core.arrays import E_GRAV_WORK, I_NBODIES, I_TRACK_ENERGY, S_DT
+from granum.core.records import raw
 from granum.physics.vec import cross, load3, sub
+
+
+@jit
+def reset_body(i, S):
+    for k in range(3):
+        S.force[i, k] = S.perm_force[i, k]
+        S.torque[i, k] = S.perm_torque[i, k]
 
 
 def _reset(S, nb):
     for i in prange(nb):
-        for k in range(3):
-            S.force[i, k] = S.perm_force[i, k]
-            S.torque[i, k] = S.perm_torque[i, k]
+        reset_body(i, S)
 
 
 reset, reset_par = kernel(_reset)
@@ -25,10 +31,10 @@ reset, reset_par = kernel(_reset)
 def reset_stage(S, C, P):
     """ForceResetter: forces and torques back to their permanent values."""
     nb = S.iscal[I_NBODIES]
-    if nb < PARALLEL_THRESHOLD:
-        reset(S, nb)
+    if nb < PARALLEL_THRESHOLD:  # through a raw view: no reference counting per body (granum.core.records)
+        reset(raw(S), nb)
     else:
-        reset_par(S, nb)
+        reset_par(raw(S), nb)
 
 
 @jit

@@ -20,8 +20,15 @@ from __future__ import annotations
 
 import numpy as np
 
-from granum._jit import PARALLEL_THRESHOLD, jit, kernel, prange
-from granum.core.arrays import E_ELAST_POT, E_PLAST_DISSIP, I_ITER, I_NBODIES, I_PERIODIC, I_TRACK_ENERGY
+from granum._jit import BLOCK, PARALLEL_THRESHOLD, jit, kernel, prange
+from granum.core.arrays import (
+    E_ELAST_POT,
+    E_PLAST_DISSIP,
+    I_ITER,
+    I_NBODIES,
+    I_PERIODIC,
+    I_TRACK_ENERGY,
+)
 from granum.core.contacts import (
     C_CONTACTS,
     C_CSR_DIRTY,
@@ -56,7 +63,7 @@ from granum.core.contacts import (
     STATUS_NO_LAW,
     STATUS_NO_PHYS,
 )
-from granum.kernels.collider import BLOCK
+from granum.core.records import borrow, raw
 from granum.kernels.dispatch import geom_call, law_call, phys_call
 from granum.physics.scgeom import contact_shift
 from granum.physics.vec import add, cross, load3, matvec, scale, sub
@@ -75,24 +82,37 @@ def pair_shift(S, C, p):
     return matvec(S.cell_hsize, k)
 
 
+@jit
+def detect_pair(p, S, C, geom_code, geom_swap, geom_prm, pair_ok):
+    """Whether potential pair ``p`` (without a contact) touches now: ``pair_hit[p]`` (read-only otherwise)."""
+    hit = 0
+    if C.pair_con[p] < 0:
+        a = C.pair_ids[p, 0]
+        b = C.pair_ids[p, 1]
+        ka = S.shape_kind[a]
+        kb = S.shape_kind[b]
+        code = geom_code[ka, kb]
+        shift = pair_shift(S, C, p)
+        if code < 0:
+            if pair_ok[ka, kb] == 2:
+                hit = HIT_NO_FUNCTOR
+        elif geom_swap[ka, kb]:  # the functor's body 2 is the pair's first body: opposite image
+            hit = HIT_TOUCH if geom_call(code, -1, b, a, scale(shift, -1.0), S, C, geom_prm) else 0
+        else:
+            hit = HIT_TOUCH if geom_call(code, -1, a, b, shift, S, C, geom_prm) else 0
+    C.pair_hit[p] = hit
+
+
+@jit
+def detect_block(b, S, C, geom_code, geom_swap, geom_prm, pair_ok):
+    """Pairs of block ``b``."""
+    for p in range(b * BLOCK, min(C.ctr[C_PAIRS], (b + 1) * BLOCK)):
+        detect_pair(p, S, C, geom_code, geom_swap, geom_prm, pair_ok)
+
+
 def _detect(S, C, geom_code, geom_swap, geom_prm, pair_ok):
-    for p in prange(C.ctr[C_PAIRS]):
-        hit = 0
-        if C.pair_con[p] < 0:
-            a = C.pair_ids[p, 0]
-            b = C.pair_ids[p, 1]
-            ka = S.shape_kind[a]
-            kb = S.shape_kind[b]
-            code = geom_code[ka, kb]
-            shift = pair_shift(S, C, p)
-            if code < 0:
-                if pair_ok[ka, kb] == 2:
-                    hit = HIT_NO_FUNCTOR
-            elif geom_swap[ka, kb]:  # the functor's body 2 is the pair's first body: opposite image
-                hit = HIT_TOUCH if geom_call(code, -1, b, a, scale(shift, -1.0), S, C, geom_prm) else 0
-            else:
-                hit = HIT_TOUCH if geom_call(code, -1, a, b, shift, S, C, geom_prm) else 0
-        C.pair_hit[p] = hit
+    for b in prange((C.ctr[C_PAIRS] + BLOCK - 1) // BLOCK):
+        detect_block(b, S, C, geom_code, geom_swap, geom_prm, pair_ok)
 
 
 detect, detect_par = kernel(_detect)
@@ -209,26 +229,40 @@ def create_contact_now(S, C, a, b, P):
     C.con_i[c, I_FLAGS] &= ~FLAG_NEW
 
 
+@jit
+def update_contact(c, S, C, geom_prm, phys_prm, law_prm, died):
+    """Geometry, physics (new contacts) and law of contact ``c``; flags its block in ``died`` if it ends."""
+    flags = C.con_i[c, I_FLAGS]
+    if not flags & FLAG_ALIVE:
+        return
+    id1 = C.con_i[c, I_ID1]
+    id2 = C.con_i[c, I_ID2]
+    shift, _ = contact_shift(c, S, C)
+    geom_call(C.con_i[c, I_GEOM], c, id1, id2, shift, S, C, geom_prm)
+    flags = C.con_i[c, I_FLAGS]
+    if flags & FLAG_NEW:
+        if flags & FLAG_PHYS_SWAP:
+            phys_call(C.con_i[c, I_PHYS], c, id2, id1, S, C, phys_prm)
+        else:
+            phys_call(C.con_i[c, I_PHYS], c, id1, id2, S, C, phys_prm)
+        C.con_i[c, I_FLAGS] &= ~FLAG_NEW
+    # functors may set flags of their own (geometry, law): change only the bits owned here
+    if not law_call(C.con_i[c, I_LAW], c, id1, id2, S, C, law_prm):
+        C.con_i[c, I_FLAGS] &= ~FLAG_ALIVE
+        died[c // BLOCK] = 1
+
+
+@jit
+def update_block(b, S, C, geom_prm, phys_prm, law_prm, died):
+    """Contacts of block ``b`` (borrowing ``died``: no reference counting per contact)."""
+    died = borrow(died)
+    for c in range(b * BLOCK, min(C.ctr[C_CONTACTS], (b + 1) * BLOCK)):
+        update_contact(c, S, C, geom_prm, phys_prm, law_prm, died)
+
+
 def _update(S, C, geom_prm, phys_prm, law_prm, died):
-    for c in prange(C.ctr[C_CONTACTS]):
-        flags = C.con_i[c, I_FLAGS]
-        if not flags & FLAG_ALIVE:
-            continue
-        id1 = C.con_i[c, I_ID1]
-        id2 = C.con_i[c, I_ID2]
-        shift, _ = contact_shift(c, S, C)
-        geom_call(C.con_i[c, I_GEOM], c, id1, id2, shift, S, C, geom_prm)
-        flags = C.con_i[c, I_FLAGS]
-        if flags & FLAG_NEW:
-            if flags & FLAG_PHYS_SWAP:
-                phys_call(C.con_i[c, I_PHYS], c, id2, id1, S, C, phys_prm)
-            else:
-                phys_call(C.con_i[c, I_PHYS], c, id1, id2, S, C, phys_prm)
-            C.con_i[c, I_FLAGS] &= ~FLAG_NEW
-        # functors may set flags of their own (geometry, law): change only the bits owned here
-        if not law_call(C.con_i[c, I_LAW], c, id1, id2, S, C, law_prm):
-            C.con_i[c, I_FLAGS] &= ~FLAG_ALIVE
-            died[c // BLOCK] = 1
+    for b in prange(died.shape[0]):
+        update_block(b, S, C, geom_prm, phys_prm, law_prm, died)
 
 
 update, update_par = kernel(_update)
@@ -293,48 +327,61 @@ def build_csr(C, nb):
     C.ctr[C_CSR_DIRTY] = 0
 
 
+@jit
+def gather_body(i, S, C):
+    """Add the forces and torques of body ``i``'s contacts to it, in increasing contact order."""
+    a = C.csr_start[i]
+    b = C.csr_start[i + 1]
+    if a == b:
+        return
+    fx = S.force[i, 0]
+    fy = S.force[i, 1]
+    fz = S.force[i, 2]
+    tx = S.torque[i, 0]
+    ty = S.torque[i, 1]
+    tz = S.torque[i, 2]
+    xi = load3(S.pos, i)
+    for k in range(a, b):
+        c = C.csr_con[k]
+        f = add(load3_row(C.con_f, c, F_FN), load3_row(C.con_f, c, F_FS))  # force on body 2
+        second = C.con_i[c, I_ID2] == i
+        if C.con_i[c, I_FLAGS] & FLAG_RADIAL_ARMS:
+            # YADE's sphericalBodies: lever arm (R_i - delta/2) along the normal
+            half = 0.5 * C.con_f[c, F_PEN]
+            arm_len = half - C.con_f[c, F_R2] if second else C.con_f[c, F_R1] - half
+            arm = scale(load3_row(C.con_f, c, F_NORMAL), arm_len)
+        elif second:
+            shift, _ = contact_shift(c, S, C)
+            arm = sub(load3_row(C.con_f, c, F_POINT), add(xi, shift))
+        else:
+            arm = sub(load3_row(C.con_f, c, F_POINT), xi)
+        if not second:
+            f = (-f[0], -f[1], -f[2])
+        t = cross(arm, f)
+        fx += f[0]
+        fy += f[1]
+        fz += f[2]
+        tx += t[0]
+        ty += t[1]
+        tz += t[2]
+    S.force[i, 0] = fx
+    S.force[i, 1] = fy
+    S.force[i, 2] = fz
+    S.torque[i, 0] = tx
+    S.torque[i, 1] = ty
+    S.torque[i, 2] = tz
+
+
+@jit
+def gather_block(b, S, C, nb):
+    """Bodies of block ``b``."""
+    for i in range(b * BLOCK, min(nb, (b + 1) * BLOCK)):
+        gather_body(i, S, C)
+
+
 def _gather(S, C, nb):
-    for i in prange(nb):
-        a = C.csr_start[i]
-        b = C.csr_start[i + 1]
-        if a == b:
-            continue
-        fx = S.force[i, 0]
-        fy = S.force[i, 1]
-        fz = S.force[i, 2]
-        tx = S.torque[i, 0]
-        ty = S.torque[i, 1]
-        tz = S.torque[i, 2]
-        xi = load3(S.pos, i)
-        for k in range(a, b):
-            c = C.csr_con[k]
-            f = add(load3_row(C.con_f, c, F_FN), load3_row(C.con_f, c, F_FS))  # force on body 2
-            second = C.con_i[c, I_ID2] == i
-            if C.con_i[c, I_FLAGS] & FLAG_RADIAL_ARMS:
-                # YADE's sphericalBodies: lever arm (R_i - delta/2) along the normal
-                half = 0.5 * C.con_f[c, F_PEN]
-                arm_len = half - C.con_f[c, F_R2] if second else C.con_f[c, F_R1] - half
-                arm = scale(load3_row(C.con_f, c, F_NORMAL), arm_len)
-            elif second:
-                shift, _ = contact_shift(c, S, C)
-                arm = sub(load3_row(C.con_f, c, F_POINT), add(xi, shift))
-            else:
-                arm = sub(load3_row(C.con_f, c, F_POINT), xi)
-            if not second:
-                f = (-f[0], -f[1], -f[2])
-            t = cross(arm, f)
-            fx += f[0]
-            fy += f[1]
-            fz += f[2]
-            tx += t[0]
-            ty += t[1]
-            tz += t[2]
-        S.force[i, 0] = fx
-        S.force[i, 1] = fy
-        S.force[i, 2] = fz
-        S.torque[i, 0] = tx
-        S.torque[i, 1] = ty
-        S.torque[i, 2] = tz
+    for b in prange((nb + BLOCK - 1) // BLOCK):
+        gather_block(b, S, C, nb)
 
 
 gather, gather_par = kernel(_gather)
@@ -374,27 +421,30 @@ def interaction_stage(S, C, P):
     """
     geom_code, geom_swap, geom_prm, geom_type, phys_code, phys_swap, phys_prm, phys_type, law_code, law_prm, pair_ok = P
     nb = S.iscal[I_NBODIES]
-    if C.ctr[C_PAIRS] < PARALLEL_THRESHOLD:
-        detect(S, C, geom_code, geom_swap, geom_prm, pair_ok)
+    R = raw(S)  # hot loops read the records through raw views (see granum.core.records)
+    V = raw(C)
+    if V.ctr[C_PAIRS] < PARALLEL_THRESHOLD:
+        detect(R, V, geom_code, geom_swap, geom_prm, pair_ok)
     else:
-        detect_par(S, C, geom_code, geom_swap, geom_prm, pair_ok)
+        detect_par(R, V, geom_code, geom_swap, geom_prm, pair_ok)
     create_contacts(S, C, geom_code, geom_swap, geom_type, phys_code, phys_swap, phys_type, law_code)
     if C.ctr[C_STATUS] != 0:
         return
-    n = C.ctr[C_CONTACTS]
+    V = raw(C)  # the storage may have grown
+    n = V.ctr[C_CONTACTS]
     died = np.zeros((n + BLOCK - 1) // BLOCK, np.uint8)
     if n < PARALLEL_THRESHOLD:
-        update(S, C, geom_prm, phys_prm, law_prm, died)
+        update(R, V, geom_prm, phys_prm, law_prm, died)
     else:
-        update_par(S, C, geom_prm, phys_prm, law_prm, died)
-    unlink_dead(C, died)
-    if C.ctr[C_CSR_DIRTY]:
-        if 4 * C.ctr[C_DEAD] > C.ctr[C_CONTACTS]:
-            compact(C)
-        build_csr(C, nb)
+        update_par(R, V, geom_prm, phys_prm, law_prm, died)
+    unlink_dead(V, died)
+    if V.ctr[C_CSR_DIRTY]:
+        if 4 * V.ctr[C_DEAD] > V.ctr[C_CONTACTS]:
+            compact(V)
+        build_csr(V, nb)
     if nb < PARALLEL_THRESHOLD:
-        gather(S, C, nb)
+        gather(R, V, nb)
     else:
-        gather_par(S, C, nb)
+        gather_par(R, V, nb)
     if S.iscal[I_TRACK_ENERGY]:
-        contact_energy(S, C)
+        contact_energy(R, V)

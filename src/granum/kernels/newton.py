@@ -24,7 +24,7 @@ import math
 
 import numpy as np
 
-from granum._jit import PARALLEL_THRESHOLD, jit, kernel, prange
+from granum._jit import BLOCK, PARALLEL_THRESHOLD, jit, kernel, prange
 from granum.core.arrays import (
     E_GRAV_WORK,
     E_KINETIC,
@@ -37,7 +37,7 @@ from granum.core.arrays import (
 )
 from granum.core.bodies import ShapeKind
 from granum.core.contacts import C_ERR_A, C_STATUS, STATUS_NONFINITE
-from granum.kernels.collider import BLOCK
+from granum.core.records import raw
 from granum.physics.vec import (
     add,
     cross,
@@ -142,94 +142,101 @@ def clump_place(i, S):
             S.ori[m, k] = qm[k]
 
 
-def _newton_blocks(S, nb, gravity, damping, damp_gravity, sums, bad):
+@jit
+def newton_block(b, S, nb, gravity, damping, damp_gravity, sums, bad):
+    """Leapfrog step of the bodies of block ``b``; their energy sums into ``sums[b]``, the first
+    non-finite or exploding body into ``bad[b]``."""
     dt = S.scal[S_DT]
     periodic = S.iscal[I_PERIODIC] != 0
     homo = S.iscal[I_HOMO_DEFORM]
-    for b in prange(sums.shape[0]):
-        kinetic = 0.0
-        damp_work = 0.0
-        grav_work = 0.0
-        for i in range(b * BLOCK, min(nb, (b + 1) * BLOCK)):
-            if not S.alive[i] or S.clump_id[i] >= 0 and S.clump_id[i] != i:
-                continue
-            clump = S.shape_kind[i] == ShapeKind.CLUMP
-            if clump:
-                clump_gather(i, S)
-            blocked = S.blocked[i]
-            m = S.mass[i]
-            damped = S.is_damped[i] and damping != 0.0
-            # periodic cell: bodies follow the homogeneous flow L x (YADE's homoDeform); damping
-            # and energies see only the fluctuation v - Lp x
-            flow = (0.0, 0.0, 0.0)
-            jump = (0.0, 0.0, 0.0)
-            conv = (0.0, 0.0, 0.0)
-            if periodic:
-                x = load3(S.pos, i)
-                flow = matvec(S.cell_prev_velgrad, x)
-                if homo >= 1:  # the flow changed: v jumps by (L - Lp) x
-                    jump = sub(matvec(S.cell_velgrad, x), flow)
-                if homo == 2:  # convective acceleration Lp v
-                    conv = scale(matvec(S.cell_prev_velgrad, load3(S.vel, i)), dt)
-            # energies use the velocity of the previous mid-step, as YADE does
-            for k in range(3):
-                v = S.vel[i, k]
-                vf = v - flow[k]
-                kinetic += 0.5 * m * vf * vf
-                if not blocked >> k & 1:
-                    g = gravity[k]
-                    a = S.force[i, k] / m + g
-                    grav_work -= m * g * vf * dt
-                    if damped:
-                        if damp_gravity:
-                            ad = damp(a, vf + 0.5 * dt * a, damping)
-                        else:
-                            ad = damp(a - g, vf + 0.5 * dt * a, damping) + g
-                        damp_work += abs(m * (a - ad) * vf) * dt
-                        a = ad
-                    v += a * dt + jump[k] + conv[k]
-                    S.vel[i, k] = v
-                S.pos[i, k] += v * dt
-            # rotation
-            t = (S.torque[i, 0], S.torque[i, 1], S.torque[i, 2])
-            wl = quat_rotate_inv(load4(S.ori, i), (S.ang_vel[i, 0], S.ang_vel[i, 1], S.ang_vel[i, 2]))
-            for k in range(3):
-                kinetic += 0.5 * S.inertia[i, k] * wl[k] * wl[k]
-            if S.aspherical[i] and blocked >> 3 == 0:
+    kinetic = 0.0
+    damp_work = 0.0
+    grav_work = 0.0
+    for i in range(b * BLOCK, min(nb, (b + 1) * BLOCK)):
+        if not S.alive[i] or S.clump_id[i] >= 0 and S.clump_id[i] != i:
+            continue
+        clump = S.shape_kind[i] == ShapeKind.CLUMP
+        if clump:
+            clump_gather(i, S)
+        blocked = S.blocked[i]
+        m = S.mass[i]
+        damped = S.is_damped[i] and damping != 0.0
+        # periodic cell: bodies follow the homogeneous flow L x (YADE's homoDeform); damping
+        # and energies see only the fluctuation v - Lp x
+        flow = (0.0, 0.0, 0.0)
+        jump = (0.0, 0.0, 0.0)
+        conv = (0.0, 0.0, 0.0)
+        if periodic:
+            x = load3(S.pos, i)
+            flow = matvec(S.cell_prev_velgrad, x)
+            if homo >= 1:  # the flow changed: v jumps by (L - Lp) x
+                jump = sub(matvec(S.cell_velgrad, x), flow)
+            if homo == 2:  # convective acceleration Lp v
+                conv = scale(matvec(S.cell_prev_velgrad, load3(S.vel, i)), dt)
+        # energies use the velocity of the previous mid-step, as YADE does
+        for k in range(3):
+            v = S.vel[i, k]
+            vf = v - flow[k]
+            kinetic += 0.5 * m * vf * vf
+            if not blocked >> k & 1:
+                g = gravity[k]
+                a = S.force[i, k] / m + g
+                grav_work -= m * g * vf * dt
                 if damped:
-                    t = (damp(t[0], S.ang_vel[i, 0], damping), damp(t[1], S.ang_vel[i, 1], damping),
-                         damp(t[2], S.ang_vel[i, 2], damping))
-                integrate_aspherical(i, S, t, dt)
-            else:
-                for k in range(3):
-                    w = S.ang_vel[i, k]
-                    if not blocked >> (3 + k) & 1:
-                        aa = t[k] / S.inertia[i, k]
-                        if damped:
-                            aad = damp(aa, w + 0.5 * dt * aa, damping)
-                            damp_work += abs(S.inertia[i, k] * (aa - aad) * w) * dt
-                            aa = aad
-                        w += aa * dt
-                        S.ang_vel[i, k] = w
-                rv = (S.ang_vel[i, 0] * dt, S.ang_vel[i, 1] * dt, S.ang_vel[i, 2] * dt)
-                angle = math.sqrt(rv[0] * rv[0] + rv[1] * rv[1] + rv[2] * rv[2])
-                if angle > 0.0:
-                    s = math.sin(0.5 * angle) / angle
-                    dq = (math.cos(0.5 * angle), rv[0] * s, rv[1] * s, rv[2] * s)
-                    q = quat_normalized(quat_mul(dq, load4(S.ori, i)))
-                    for k in range(4):
-                        S.ori[i, k] = q[k]
-            if clump:
-                clump_place(i, S)
-            speed2 = S.vel[i, 0] ** 2 + S.vel[i, 1] ** 2 + S.vel[i, 2] ** 2
-            ok = speed2 < EXPLODING_SPEED ** 2
+                    if damp_gravity:
+                        ad = damp(a, vf + 0.5 * dt * a, damping)
+                    else:
+                        ad = damp(a - g, vf + 0.5 * dt * a, damping) + g
+                    damp_work += abs(m * (a - ad) * vf) * dt
+                    a = ad
+                v += a * dt + jump[k] + conv[k]
+                S.vel[i, k] = v
+            S.pos[i, k] += v * dt
+        # rotation
+        t = (S.torque[i, 0], S.torque[i, 1], S.torque[i, 2])
+        wl = quat_rotate_inv(load4(S.ori, i), (S.ang_vel[i, 0], S.ang_vel[i, 1], S.ang_vel[i, 2]))
+        for k in range(3):
+            kinetic += 0.5 * S.inertia[i, k] * wl[k] * wl[k]
+        if S.aspherical[i] and blocked >> 3 == 0:
+            if damped:
+                t = (damp(t[0], S.ang_vel[i, 0], damping), damp(t[1], S.ang_vel[i, 1], damping),
+                     damp(t[2], S.ang_vel[i, 2], damping))
+            integrate_aspherical(i, S, t, dt)
+        else:
             for k in range(3):
-                ok = ok and math.isfinite(S.pos[i, k]) and math.isfinite(S.ang_vel[i, k])
-            if not ok and bad[b] < 0:
-                bad[b] = i
-        sums[b, 0] = kinetic
-        sums[b, 1] = damp_work
-        sums[b, 2] = grav_work
+                w = S.ang_vel[i, k]
+                if not blocked >> (3 + k) & 1:
+                    aa = t[k] / S.inertia[i, k]
+                    if damped:
+                        aad = damp(aa, w + 0.5 * dt * aa, damping)
+                        damp_work += abs(S.inertia[i, k] * (aa - aad) * w) * dt
+                        aa = aad
+                    w += aa * dt
+                    S.ang_vel[i, k] = w
+            rv = (S.ang_vel[i, 0] * dt, S.ang_vel[i, 1] * dt, S.ang_vel[i, 2] * dt)
+            angle = math.sqrt(rv[0] * rv[0] + rv[1] * rv[1] + rv[2] * rv[2])
+            if angle > 0.0:
+                s = math.sin(0.5 * angle) / angle
+                dq = (math.cos(0.5 * angle), rv[0] * s, rv[1] * s, rv[2] * s)
+                q = quat_normalized(quat_mul(dq, load4(S.ori, i)))
+                for k in range(4):
+                    S.ori[i, k] = q[k]
+        if clump:
+            clump_place(i, S)
+        speed2 = S.vel[i, 0] ** 2 + S.vel[i, 1] ** 2 + S.vel[i, 2] ** 2
+        ok = speed2 < EXPLODING_SPEED ** 2
+        for k in range(3):
+            ok = ok and math.isfinite(S.pos[i, k]) and math.isfinite(S.ang_vel[i, k])
+        if not ok and bad[b] < 0:
+            bad[b] = i
+    sums[b, 0] = kinetic
+    sums[b, 1] = damp_work
+    sums[b, 2] = grav_work
+
+
+def _newton_blocks(S, nb, gravity, damping, damp_gravity, sums, bad):
+    for b in prange(sums.shape[0]):
+        newton_block(b, S, nb, gravity, damping, damp_gravity, sums, bad)
 
 
 newton_blocks, newton_blocks_par = kernel(_newton_blocks)
@@ -243,10 +250,10 @@ def newton_stage(S, C, P):
     nblocks = (nb + BLOCK - 1) // BLOCK
     sums = np.zeros((nblocks, 3))
     bad = np.full(nblocks, -1, np.int64)
-    if nb < PARALLEL_THRESHOLD:
-        newton_blocks(S, nb, gravity, damping, damp_gravity, sums, bad)
+    if nb < PARALLEL_THRESHOLD:  # through a raw view: no reference counting per body (granum.core.records)
+        newton_blocks(raw(S), nb, gravity, damping, damp_gravity, sums, bad)
     else:
-        newton_blocks_par(S, nb, gravity, damping, damp_gravity, sums, bad)
+        newton_blocks_par(raw(S), nb, gravity, damping, damp_gravity, sums, bad)
     for b in range(nblocks):
         if bad[b] >= 0:
             C.ctr[C_STATUS] = STATUS_NONFINITE

@@ -1,0 +1,82 @@
+"""Rules the compiled kernels must follow for Numba to compile them correctly.
+
+Numba loses writes made through the fields of a record or named tuple directly in the body of a
+``prange`` loop (numba#7135: the parallel loop works on copies of the tuple's arrays). Every parallel
+loop over the scene (functions taking the records ``S`` or ``C``) therefore has a body of exactly
+one call, to a function that does the work: writes inside a called function are kept.
+"""
+
+from __future__ import annotations
+
+import ast
+import pathlib
+
+import granum
+
+PACKAGE = pathlib.Path(granum.__file__).parent
+
+
+def _prange_loops():
+    for path in sorted(PACKAGE.rglob("*.py")):
+        tree = ast.parse(path.read_text(), str(path))
+        for fn in ast.walk(tree):
+            if not isinstance(fn, ast.FunctionDef):
+                continue
+            params = {a.arg for a in fn.args.args}
+            for node in ast.walk(fn):
+                if (isinstance(node, ast.For) and isinstance(node.iter, ast.Call)
+                        and getattr(node.iter.func, "id", None) == "prange"):
+                    yield path.relative_to(PACKAGE), fn.name, params, node
+
+
+def test_parallel_loops_over_records_have_a_single_call_as_body():
+    loops = list(_prange_loops())
+    over_records = [(p, name, loop) for p, name, params, loop in loops if params & {"S", "C"}]
+    assert len(over_records) >= 8, "the kernels' parallel loops were not found"
+    bad = [f"{p}:{loop.lineno} ({name})" for p, name, loop in over_records
+           if not (len(loop.body) == 1 and isinstance(loop.body[0], ast.Expr)
+                   and isinstance(loop.body[0].value, ast.Call))]
+    assert not bad, f"prange bodies must be one call (numba#7135): {bad}"
+
+
+LATTICE = """
+import numpy
+n = 17  # 4913 spheres: above PARALLEL_THRESHOLD, so the parallel kernels run
+r, s = 0.01, 0.02 * (1 - 1e-3)
+O.bodies.append([sphere((r + i * s, r + j * s, r + k * s), r) for k in range(n) for j in range(n) for i in range(n)])
+c = r + 0.5 * (n - 1) * s
+O.bodies.append(geom.facetBox((c, c, c), (c - r * 1e-3,) * 3))
+O.bodies[5].state.vel = (0.3, -0.2, 0.1)   # something moves and slides
+O.engines = [ForceResetter(), InsertionSortCollider([Bo1_Sphere_Aabb(), Bo1_Facet_Aabb()], verletDist=0.0002),
+             InteractionLoop([Ig2_Sphere_Sphere_ScGeom(), Ig2_Facet_Sphere_ScGeom()],
+                             [Ip2_FrictMat_FrictMat_FrictPhys()], [Law2_ScGeom_FrictPhys_CundallStrack()]),
+             NewtonIntegrator(damping=0.2, gravity=(0, 0, -9.81))]
+O.dt = 0.5 * PWaveTimeStep()
+O.trackEnergy = True
+O.run(60, True)
+numpy.save('state.npy', numpy.array([list(b.state.pos) + list(b.state.vel) + list(b.state.angVel) for b in O.bodies]
+                                    + [[O.energy[k] for k in sorted(O.energy.keys())] + [0.0] * 4]))
+"""
+
+
+def test_parallel_kernels_equal_serial_ones_bitwise_at_any_thread_count(tmp_path):
+    """The dense lattice above the parallel threshold: -j1, -j2 and the kernels compiled without parallel
+    loops (GRANUM_NOPAR=1) give the same bits (no lost writes, no races, no thread-dependent sums)."""
+    import os
+    import subprocess
+    import sys
+
+    import numpy as np
+
+    (tmp_path / "lattice.py").write_text(LATTICE)
+    states = {}
+    for name, args, env in (("j1", ["-j", "1"], {}), ("j2", ["-j", "2"], {}), ("serial", ["-j", "1"],
+                                                                                  {"GRANUM_NOPAR": "1"})):
+        run = tmp_path / name
+        run.mkdir()
+        subprocess.run([sys.executable, "-m", "granum", *args, str(tmp_path / "lattice.py")], cwd=run, check=True,
+                       timeout=1800, env={**os.environ, **env})
+        states[name] = np.load(run / "state.npy")
+    assert np.abs(states["j1"][:4913, 3:6]).max() > 0, "nothing moved"
+    assert (states["j1"] == states["j2"]).all()
+    assert (states["j1"] == states["serial"]).all()
