@@ -79,6 +79,10 @@ _configure_numba()
 import numba  # noqa: E402
 from numba import njit, prange  # noqa: E402  (after the cache directory is configured)
 
+# Threading layer: OpenMP first. A step launches several short parallel loops, and TBB's launch
+# overhead made the falling-ball benchmark 2.5x slower with two threads than with one (OpenMP:
+# 1.6x faster). NUMBA_THREADING_LAYER, if the user sets it, still decides.
+numba.config.THREADING_LAYER_PRIORITY = ["omp", "tbb", "workqueue"]
 # Start numba's thread pool now. Compiling a parallel kernel starts it as a side effect,
 # but loading one from the cache does not, and calling a cached parallel kernel before
 # the pool exists crashes the process.

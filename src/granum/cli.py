@@ -60,6 +60,8 @@ def _set_threads(n: int | None) -> None:
     os.environ["NUMBA_NUM_THREADS"] = str(max(n, os.cpu_count() or 1))
     import numba
 
+    import granum._jit  # noqa: F401  (chooses the threading layer before the pool starts)
+
     numba.set_num_threads(n)
 
 

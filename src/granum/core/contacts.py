@@ -12,6 +12,13 @@ potential pairs are never real, so granum keeps them apart:
     ``pos + hSize @ pair_cell`` (YADE's ``cellDist``); zero in aperiodic scenes.
 ``pair_con``  (P,) int32
     Index of the pair's real contact in the pool, or -1.
+``pair_gap``  (P,) float64
+    Motion budget of a pair without contact [m]: while the relative motion of its two
+    bodies since the collider last ran stays below it, they cannot touch and the
+    geometry is not evaluated (see :func:`granum.kernels.interaction.detect_block`).
+    -inf: evaluate at the next step (new pairs, ended contacts).
+``pair_hit``  (P,) uint8
+    Outcome of this step's detection for the pair (``HIT_*`` of the interaction loop).
 ``con_i``, ``con_f``  (K, NI) int32 and (K, NF) float64
     The pool of real contacts, one row per contact (all columns of a contact are
     adjacent in memory, which suits the per-contact loop). Column offsets are the
@@ -110,7 +117,8 @@ STATUS_TOO_LARGE = 5    # a body is wider than half the periodic cell (ERR_A: bo
 
 #: Record of the interaction storage passed to kernels (see the module docstring).
 CONTACTS = RecordSpec("ContactArrays", [
-    ("pair_ids", "i4", 2), ("pair_cell", "i4", 2), ("pair_con", "i4", 1), ("pair_hit", "u1", 1), ("con_i", "i4", 2),
+    ("pair_ids", "i4", 2), ("pair_cell", "i4", 2), ("pair_con", "i4", 1), ("pair_gap", "f8", 1), ("pair_hit", "u1", 1),
+    ("con_i", "i4", 2),
     ("con_f", "f8", 2), ("csr_start", "i4", 1), ("csr_con", "i4", 1), ("ctr", "i8", 1)])
 ContactArrays = CONTACTS.tuple
 
@@ -125,6 +133,7 @@ def new_contact_arrays(n_bodies: int, pair_capacity: int = 64, contact_capacity:
         pair_ids=np.zeros((pair_capacity, 2), np.int32),
         pair_cell=np.zeros((pair_capacity, 3), np.int32),
         pair_con=np.full(pair_capacity, -1, np.int32),
+        pair_gap=np.full(pair_capacity, -np.inf),
         pair_hit=np.zeros(pair_capacity, np.uint8),
         con_i=con_i,
         con_f=np.zeros((contact_capacity, nf()), np.float64),
@@ -152,6 +161,7 @@ def end_contact(C: ContactArrays, c: int) -> None:
     p = C.con_i[c, I_PAIR]
     if p >= 0:
         C.pair_con[p] = -1
+        C.pair_gap[p] = -np.inf
     C.con_i[c, I_ID1] = -1
     C.con_i[c, I_PAIR] = -1
     C.ctr[C_DEAD] += 1

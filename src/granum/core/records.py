@@ -102,7 +102,11 @@ def _raw_getattr(context, builder, typ, value, attr):
     payload = typ.record_type.get_data_type()
     ptr = builder.bitcast(value, context.data_model_manager[payload].get_value_type().as_pointer())
     data = cgutils.create_struct_proxy(payload)(context, builder, ref=ptr)
-    return _borrowed(context, builder, typ.record_type.field_dict[attr], getattr(data, attr))
+    field = builder.load(data._get_ptr_by_name(attr))
+    # the fields do not change while a raw view is in use (its contract), so LLVM may keep them in
+    # registers across the stores into the arrays instead of reloading them after each store
+    field.set_metadata("invariant.load", builder.module.add_metadata([]))
+    return _borrowed(context, builder, typ.record_type.field_dict[attr], field)
 
 
 @intrinsic

@@ -10,6 +10,8 @@ writes attached and detached objects.
 
 from __future__ import annotations
 
+import hashlib
+
 import numpy as np
 
 from granum.core.arrays import (
@@ -99,6 +101,8 @@ class Scene(BodyStore):
         self.tags: dict = default_tags()
         self.stop_at_iter = 0
         self.stop_at_time = 0.0
+        #: digest of the geometry functors and parameters the pairs' detection budgets were computed with
+        self.detection_key = ""
         self._mat_cache = None
 
     # ---- clock ----------------------------------------------------------------------
@@ -154,6 +158,14 @@ class Scene(BodyStore):
     def needs_collider(self) -> None:
         """Make the collider run at the next step (bodies or shapes changed)."""
         self.contacts.ctr[C_COLLIDE] = 1
+
+    def detection_uses(self, functors: bytes) -> None:
+        """The interaction loop detects contacts with the geometry functors and parameters ``functors``
+        (their bytes); if they changed, the collider runs again, which drops every pair's budget."""
+        key = hashlib.blake2b(functors, digest_size=16).hexdigest()
+        if key != self.detection_key:
+            self.detection_key = key
+            self.needs_collider()
 
     def clear_bodies(self) -> None:
         """Remove all bodies and interactions; keep engines, materials and the clock."""

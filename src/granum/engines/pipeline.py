@@ -190,7 +190,10 @@ class InteractionLoop(GlobalEngine):
 
     def params(self, scene, engines) -> tuple:
         t = self.tables(scene)
-        return (t["geom_code"], t["geom_swap"], param_table("geom", self.geomDispatcher.functors), t["geom_type"],
+        geom_prm = param_table("geom", self.geomDispatcher.functors)
+        # pairs skip detection on budgets computed with these functors (see interaction.detect_pair)
+        scene.detection_uses(t["geom_code"].tobytes() + t["geom_swap"].tobytes() + geom_prm.tobytes())
+        return (t["geom_code"], t["geom_swap"], geom_prm, t["geom_type"],
                 t["phys_code"], t["phys_swap"], param_table("phys", self.physDispatcher.functors), t["phys_type"],
                 t["law_code"], param_table("law", self.lawDispatcher.functors), t["pair_ok"])
 

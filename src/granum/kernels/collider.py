@@ -47,7 +47,7 @@ from granum.core.records import borrow, raw
 from granum.kernels.collider_periodic import find_pairs_periodic
 from granum.kernels.dispatch import bound_call
 from granum.kernels.pairing import may_collide
-from granum.physics.vec import load3, load4, norm, quat_angle, quat_mul, sub
+from granum.physics.vec import load3, load4, quat_angle, quat_mul, sub
 
 
 @jit
@@ -68,17 +68,34 @@ def body_reach(i, S):
 
 
 @jit
+def body_displacement(i, S):
+    """``(dx, dy, dz, w)``: displacement of body ``i``'s centre since its bound was computed [m], and
+    the rotation angle since then times the body's reach [m] (0 for spheres, whose geometry does not
+    turn); all zero for a body without a bound."""
+    if not S.alive[i] or S.bound_min[i, 0] > S.bound_max[i, 0]:
+        return 0.0, 0.0, 0.0, 0.0
+    d = sub(load3(S.pos, i), load3(S.bound_pos, i))
+    w = 0.0
+    if S.shape_kind[i] != ShapeKind.SPHERE:
+        q = load4(S.ori, i)
+        q0 = load4(S.bound_ori, i)
+        w = quat_angle(quat_mul(q, (q0[0], -q0[1], -q0[2], -q0[3]))) * body_reach(i, S)
+    return d[0], d[1], d[2], w
+
+
+@jit
+def body_motion(i, S):
+    """How far any point of body ``i`` may have moved since its bound was computed [m]."""
+    dx, dy, dz, w = body_displacement(i, S)
+    return math.sqrt(dx * dx + dy * dy + dz * dz) + w
+
+
+@jit
 def moved_block(b, S, nb, flags):
     """Flag block ``b`` of bodies if one of them left its Verlet-enlarged bound."""
     verlet = S.scal[S_VERLET]
     for i in range(b * BLOCK, min(nb, (b + 1) * BLOCK)):
-        if not S.alive[i] or S.bound_min[i, 0] > S.bound_max[i, 0]:
-            continue
-        d = norm(sub(load3(S.pos, i), load3(S.bound_pos, i)))
-        if S.shape_kind[i] != ShapeKind.SPHERE:
-            q = load4(S.ori, i)
-            q0 = load4(S.bound_ori, i)
-            d += quat_angle(quat_mul(q, (q0[0], -q0[1], -q0[2], -q0[3]))) * body_reach(i, S)
+        d = body_motion(i, S)
         if d > verlet or (verlet == 0.0 and d > 0.0) or not d == d:
             flags[b] = 1
             return
@@ -418,4 +435,5 @@ def collider_stage(S, C, P):
     C.pair_ids = pair_ids
     C.pair_cell = pair_cell
     C.pair_con = pair_con
+    C.pair_gap = np.full(cap, -np.inf)
     C.pair_hit = np.zeros(cap, np.uint8)

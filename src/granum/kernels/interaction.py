@@ -18,6 +18,8 @@ Each step:
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from granum._jit import BLOCK, PARALLEL_THRESHOLD, jit, kernel, prange
@@ -64,6 +66,7 @@ from granum.core.contacts import (
     STATUS_NO_PHYS,
 )
 from granum.core.records import borrow, raw
+from granum.kernels.collider import body_displacement
 from granum.kernels.dispatch import geom_call, law_call, phys_call
 from granum.physics.scgeom import contact_shift
 from granum.physics.vec import add, cross, load3, matvec, scale, sub
@@ -83,39 +86,91 @@ def pair_shift(S, C, p):
 
 
 @jit
-def detect_pair(p, S, C, geom_code, geom_swap, geom_prm, pair_ok):
-    """Whether potential pair ``p`` (without a contact) touches now: ``pair_hit[p]`` (read-only otherwise)."""
-    hit = 0
-    if C.pair_con[p] < 0:
-        a = C.pair_ids[p, 0]
-        b = C.pair_ids[p, 1]
-        ka = S.shape_kind[a]
-        kb = S.shape_kind[b]
-        code = geom_code[ka, kb]
-        shift = pair_shift(S, C, p)
-        if code < 0:
-            if pair_ok[ka, kb] == 2:
-                hit = HIT_NO_FUNCTOR
-        elif geom_swap[ka, kb]:  # the functor's body 2 is the pair's first body: opposite image
-            hit = HIT_TOUCH if geom_call(code, -1, b, a, scale(shift, -1.0), S, C, geom_prm) else 0
-        else:
-            hit = HIT_TOUCH if geom_call(code, -1, a, b, shift, S, C, geom_prm) else 0
-    C.pair_hit[p] = hit
+def detect_pair(p, S, C, geom_code, geom_swap, geom_prm, pair_ok, moved):
+    """Evaluate potential pair ``p`` (no contact, budget used up; its bodies moved ``moved`` relative to
+    each other):
+    the ``HIT_*`` outcome, and the pair's new budget when it does not touch (see :func:`detect_block`)."""
+    a = C.pair_ids[p, 0]
+    b = C.pair_ids[p, 1]
+    ka = S.shape_kind[a]
+    kb = S.shape_kind[b]
+    code = geom_code[ka, kb]
+    if code < 0:
+        if pair_ok[ka, kb] == 2:
+            return HIT_NO_FUNCTOR
+        C.pair_gap[p] = math.inf  # shapes that never interact
+        return 0
+    shift = pair_shift(S, C, p)
+    if geom_swap[ka, kb]:  # the functor's body 2 is the pair's first body: opposite image
+        sep = geom_call(code, -1, b, a, scale(shift, -1.0), S, C, geom_prm)
+    else:
+        sep = geom_call(code, -1, a, b, shift, S, C, geom_prm)
+    if sep <= 0.0:
+        return HIT_TOUCH
+    C.pair_gap[p] = sep - moved
+    return 0
 
 
 @jit
-def detect_block(b, S, C, geom_code, geom_swap, geom_prm, pair_ok):
-    """Pairs of block ``b``."""
+def detect_block(b, S, C, geom_code, geom_swap, geom_prm, pair_ok, motion):
+    """Which pairs of block ``b`` without a contact touch now: ``pair_hit``.
+
+    The geometry of a pair is evaluated only when the relative motion of its two bodies since
+    the collider ran reaches the pair's budget ``pair_gap``. With d_a, d_b the displacements of
+    the bodies' centres since then and w_a, w_b their rotations times their reach (``motion``,
+    see :func:`body_motions`), the relative motion is m = |d_a - d_b| + w_a + w_b. Below the
+    budget, the separation found at the last evaluation, less everything the bodies may have
+    moved relative to each other since the collider ran, is still positive: they cannot touch.
+    After an evaluation that finds a separation s > 0 the budget is s - m(now), which keeps that
+    bound valid for any later relative motion measured from the same reference (the motion
+    between t0 and t is at most m(t) + m(t0)). Bodies moving together (a falling cluster) never
+    use up their budgets. The arrays are read into locals (borrowed: no reference counting per
+    pair).
+    """
+    motion, pair_con, pair_ids, pair_gap, pair_hit = borrow((motion, C.pair_con, C.pair_ids, C.pair_gap,
+                                                             C.pair_hit))
     for p in range(b * BLOCK, min(C.ctr[C_PAIRS], (b + 1) * BLOCK)):
-        detect_pair(p, S, C, geom_code, geom_swap, geom_prm, pair_ok)
+        hit = 0
+        if pair_con[p] < 0:
+            i = pair_ids[p, 0]
+            j = pair_ids[p, 1]
+            dx = motion[i, 0] - motion[j, 0]
+            dy = motion[i, 1] - motion[j, 1]
+            dz = motion[i, 2] - motion[j, 2]
+            moved = math.sqrt(dx * dx + dy * dy + dz * dz) + motion[i, 3] + motion[j, 3]
+            if not moved < pair_gap[p]:
+                hit = detect_pair(p, S, C, geom_code, geom_swap, geom_prm, pair_ok, moved)
+        pair_hit[p] = hit
 
 
-def _detect(S, C, geom_code, geom_swap, geom_prm, pair_ok):
+def _detect(S, C, geom_code, geom_swap, geom_prm, pair_ok, motion):
     for b in prange((C.ctr[C_PAIRS] + BLOCK - 1) // BLOCK):
-        detect_block(b, S, C, geom_code, geom_swap, geom_prm, pair_ok)
+        detect_block(b, S, C, geom_code, geom_swap, geom_prm, pair_ok, motion)
 
 
 detect, detect_par = kernel(_detect)
+
+
+@jit
+def motion_block(b, S, nb, motion):
+    """Rows of ``motion`` (nb, 4) for the bodies of block ``b``: displacement since the collider ran and
+    rotation times reach (:func:`granum.kernels.collider.body_displacement`). In a periodic cell the
+    images also move with the cell, so pair budgets are not used there: the rotation term is +inf."""
+    periodic = S.iscal[I_PERIODIC] != 0
+    for i in range(b * BLOCK, min(nb, (b + 1) * BLOCK)):
+        dx, dy, dz, w = body_displacement(i, S)
+        motion[i, 0] = dx
+        motion[i, 1] = dy
+        motion[i, 2] = dz
+        motion[i, 3] = math.inf if periodic else w
+
+
+def _body_motions(S, nb, motion):
+    for b in prange((nb + BLOCK - 1) // BLOCK):
+        motion_block(b, S, nb, motion)
+
+
+body_motions, body_motions_par = kernel(_body_motions)
 
 
 @jit
@@ -281,6 +336,7 @@ def unlink_dead(C, died):
             p = C.con_i[c, I_PAIR]
             if p >= 0:
                 C.pair_con[p] = -1
+                C.pair_gap[p] = -math.inf  # evaluate the pair again from the next step
             C.con_i[c, I_ID1] = -1   # marks the row as already unlinked
             C.con_i[c, I_PAIR] = -1
             C.ctr[C_DEAD] += 1
@@ -423,10 +479,15 @@ def interaction_stage(S, C, P):
     nb = S.iscal[I_NBODIES]
     R = raw(S)  # hot loops read the records through raw views (see granum.core.records)
     V = raw(C)
-    if V.ctr[C_PAIRS] < PARALLEL_THRESHOLD:
-        detect(R, V, geom_code, geom_swap, geom_prm, pair_ok)
+    motion = np.empty((nb, 4))
+    if nb < PARALLEL_THRESHOLD:
+        body_motions(R, nb, motion)
     else:
-        detect_par(R, V, geom_code, geom_swap, geom_prm, pair_ok)
+        body_motions_par(R, nb, motion)
+    if V.ctr[C_PAIRS] < PARALLEL_THRESHOLD:
+        detect(R, V, geom_code, geom_swap, geom_prm, pair_ok, motion)
+    else:
+        detect_par(R, V, geom_code, geom_swap, geom_prm, pair_ok, motion)
     create_contacts(S, C, geom_code, geom_swap, geom_type, phys_code, phys_swap, phys_type, law_code)
     if C.ctr[C_STATUS] != 0:
         return

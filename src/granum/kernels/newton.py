@@ -144,89 +144,102 @@ def clump_place(i, S):
 
 @jit
 def newton_block(b, S, nb, gravity, damping, damp_gravity, sums, bad):
-    """Leapfrog step of the bodies of block ``b``; their energy sums into ``sums[b]``, the first
-    non-finite or exploding body into ``bad[b]``."""
+    """Leapfrog step of the bodies of block ``b``; their energy sums into ``sums[b]`` (when energies are
+    tracked), the first non-finite or exploding body into ``bad[b]``.
+
+    The per-body columns are read into local arrays once (``S`` is a raw view: they are borrowed),
+    so that the loop does not reload them from the record after every store.
+    """
     dt = S.scal[S_DT]
     periodic = S.iscal[I_PERIODIC] != 0
     homo = S.iscal[I_HOMO_DEFORM]
+    track = S.iscal[I_TRACK_ENERGY] != 0
+    pos, vel, ori, ang_vel, force, torque = S.pos, S.vel, S.ori, S.ang_vel, S.force, S.torque
+    mass, inertia, blocked_dofs, is_damped = S.mass, S.inertia, S.blocked, S.is_damped
+    alive, clump_id, shape_kind, aspherical = S.alive, S.clump_id, S.shape_kind, S.aspherical
     kinetic = 0.0
     damp_work = 0.0
     grav_work = 0.0
     for i in range(b * BLOCK, min(nb, (b + 1) * BLOCK)):
-        if not S.alive[i] or S.clump_id[i] >= 0 and S.clump_id[i] != i:
+        if not alive[i] or clump_id[i] >= 0 and clump_id[i] != i:
             continue
-        clump = S.shape_kind[i] == ShapeKind.CLUMP
+        clump = shape_kind[i] == ShapeKind.CLUMP
         if clump:
             clump_gather(i, S)
-        blocked = S.blocked[i]
-        m = S.mass[i]
-        damped = S.is_damped[i] and damping != 0.0
+        blocked = blocked_dofs[i]
+        m = mass[i]
+        damped = is_damped[i] and damping != 0.0
         # periodic cell: bodies follow the homogeneous flow L x (YADE's homoDeform); damping
         # and energies see only the fluctuation v - Lp x
         flow = (0.0, 0.0, 0.0)
         jump = (0.0, 0.0, 0.0)
         conv = (0.0, 0.0, 0.0)
         if periodic:
-            x = load3(S.pos, i)
+            x = load3(pos, i)
             flow = matvec(S.cell_prev_velgrad, x)
             if homo >= 1:  # the flow changed: v jumps by (L - Lp) x
                 jump = sub(matvec(S.cell_velgrad, x), flow)
             if homo == 2:  # convective acceleration Lp v
-                conv = scale(matvec(S.cell_prev_velgrad, load3(S.vel, i)), dt)
+                conv = scale(matvec(S.cell_prev_velgrad, load3(vel, i)), dt)
         # energies use the velocity of the previous mid-step, as YADE does
         for k in range(3):
-            v = S.vel[i, k]
+            v = vel[i, k]
             vf = v - flow[k]
-            kinetic += 0.5 * m * vf * vf
+            if track:
+                kinetic += 0.5 * m * vf * vf
             if not blocked >> k & 1:
                 g = gravity[k]
-                a = S.force[i, k] / m + g
-                grav_work -= m * g * vf * dt
+                a = force[i, k] / m + g
+                if track:
+                    grav_work -= m * g * vf * dt
                 if damped:
                     if damp_gravity:
                         ad = damp(a, vf + 0.5 * dt * a, damping)
                     else:
                         ad = damp(a - g, vf + 0.5 * dt * a, damping) + g
-                    damp_work += abs(m * (a - ad) * vf) * dt
+                    if track:
+                        damp_work += abs(m * (a - ad) * vf) * dt
                     a = ad
                 v += a * dt + jump[k] + conv[k]
-                S.vel[i, k] = v
-            S.pos[i, k] += v * dt
+                vel[i, k] = v
+            pos[i, k] += v * dt
         # rotation
-        t = (S.torque[i, 0], S.torque[i, 1], S.torque[i, 2])
-        wl = quat_rotate_inv(load4(S.ori, i), (S.ang_vel[i, 0], S.ang_vel[i, 1], S.ang_vel[i, 2]))
-        for k in range(3):
-            kinetic += 0.5 * S.inertia[i, k] * wl[k] * wl[k]
-        if S.aspherical[i] and blocked >> 3 == 0:
+        t = (torque[i, 0], torque[i, 1], torque[i, 2])
+        if track:
+            wl = quat_rotate_inv(load4(ori, i), (ang_vel[i, 0], ang_vel[i, 1], ang_vel[i, 2]))
+            for k in range(3):
+                kinetic += 0.5 * inertia[i, k] * wl[k] * wl[k]
+        if aspherical[i] and blocked >> 3 == 0:
             if damped:
-                t = (damp(t[0], S.ang_vel[i, 0], damping), damp(t[1], S.ang_vel[i, 1], damping),
-                     damp(t[2], S.ang_vel[i, 2], damping))
+                t = (damp(t[0], ang_vel[i, 0], damping), damp(t[1], ang_vel[i, 1], damping),
+                     damp(t[2], ang_vel[i, 2], damping))
             integrate_aspherical(i, S, t, dt)
         else:
             for k in range(3):
-                w = S.ang_vel[i, k]
+                w = ang_vel[i, k]
                 if not blocked >> (3 + k) & 1:
-                    aa = t[k] / S.inertia[i, k]
+                    aa = t[k] / inertia[i, k]
                     if damped:
                         aad = damp(aa, w + 0.5 * dt * aa, damping)
-                        damp_work += abs(S.inertia[i, k] * (aa - aad) * w) * dt
+                        if track:
+                            damp_work += abs(inertia[i, k] * (aa - aad) * w) * dt
                         aa = aad
                     w += aa * dt
-                    S.ang_vel[i, k] = w
-            rv = (S.ang_vel[i, 0] * dt, S.ang_vel[i, 1] * dt, S.ang_vel[i, 2] * dt)
+                    ang_vel[i, k] = w
+            rv = (ang_vel[i, 0] * dt, ang_vel[i, 1] * dt, ang_vel[i, 2] * dt)
             angle = math.sqrt(rv[0] * rv[0] + rv[1] * rv[1] + rv[2] * rv[2])
             if angle > 0.0:
                 s = math.sin(0.5 * angle) / angle
                 dq = (math.cos(0.5 * angle), rv[0] * s, rv[1] * s, rv[2] * s)
-                q = quat_normalized(quat_mul(dq, load4(S.ori, i)))
+                q = quat_normalized(quat_mul(dq, load4(ori, i)))
                 for k in range(4):
-                    S.ori[i, k] = q[k]
+                    ori[i, k] = q[k]
         if clump:
             clump_place(i, S)
-        speed2 = S.vel[i, 0] ** 2 + S.vel[i, 1] ** 2 + S.vel[i, 2] ** 2
+        speed2 = vel[i, 0] ** 2 + vel[i, 1] ** 2 + vel[i, 2] ** 2
         ok = speed2 < EXPLODING_SPEED ** 2
         for k in range(3):
-            ok = ok and math.isfinite(S.pos[i, k]) and math.isfinite(S.ang_vel[i, k])
+            ok = ok and math.isfinite(pos[i, k]) and math.isfinite(ang_vel[i, k])
         if not ok and bad[b] < 0:
             bad[b] = i
     sums[b, 0] = kinetic

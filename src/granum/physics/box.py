@@ -37,7 +37,7 @@ def geom_box_sphere(c, id1, id2, shift, S, C, prm):
     clamped to the extents; n = (x - P)/|x - P| and delta = r - |x - P|. When the
     centre is inside the box the normal is that of the nearest face and
     delta = r + (distance to that face). C = x - (r - delta/2) n; reference radii
-    are r for both bodies.
+    are r for both bodies. Detection (``c`` < 0) returns the separation -delta [m].
     """
     row = S.shape_row[id1]
     q = load4(S.ori, id1)
@@ -61,14 +61,14 @@ def geom_box_sphere(c, id1, id2, shift, S, C, prm):
         d = sub(xl, pl)
         dist = norm(d)
         if c < 0:
-            return dist <= r
+            return dist - r
         nl = scale(d, 1.0 / dist)
         pen = r - dist
     if c < 0:
-        return True
+        return -pen
     n = quat_rotate(q, nl)
     scgeom_write(c, C, n, pen, sub(x, scale(n, r - 0.5 * pen)), r, r, False)
-    return True
+    return 0.0
 
 
 registry.register_functor(Functor(

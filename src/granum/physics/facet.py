@@ -83,6 +83,8 @@ def geom_facet_sphere(c, id1, id2, shift, S, C, prm):
     on the face (n is the facet normal, turned towards the sphere), on an edge or
     on a vertex (n = (x - P)/|x - P|). delta = r - |x - P|,
     C = x - (r - delta/2) n. The reference radii are 2r (facet) and r (sphere).
+    Detection (``c`` < 0) returns the separation |x - P| - r [m] (|distance to the plane| - r
+    when that already exceeds r).
     """
     r = S.sphere_radius[S.shape_row[id2]]
     x = add(load3(S.pos, id2), shift)
@@ -91,19 +93,19 @@ def geom_facet_sphere(c, id1, id2, shift, S, C, prm):
     nf = quat_rotate(q, (S.facet_normal[row, 0], S.facet_normal[row, 1], S.facet_normal[row, 2]))
     plane_dist = dot(sub(x, load3(S.pos, id1)), nf)
     if c < 0 and abs(plane_dist) > r:
-        return False
+        return abs(plane_dist) - r
     p = closest_point_triangle(x, facet_vertex(id1, 0, S), facet_vertex(id1, 1, S), facet_vertex(id1, 2, S))
     d = sub(x, p)
     dist = norm(d)
     if c < 0:
-        return dist <= r
+        return dist - r
     if dist > 0.0:
         n = scale(d, 1.0 / dist)
     else:
         n = nf
     pen = r - dist
     scgeom_write(c, C, n, pen, sub(x, scale(n, r - 0.5 * pen)), 2.0 * r, r, False)
-    return True
+    return 0.0
 
 
 registry.register_functor(Functor(

@@ -13,10 +13,14 @@ hierarchy (an ``Ip2_FrictMat_FrictMat_FrictPhys`` also serves two ``ViscElMat``)
 Calling conventions of the registered compiled functions (``S``: scene arrays,
 ``C``: contact arrays, ``prm``: float64 parameters of the functor instance):
 
-``geom(c, id1, id2, shift, S, C, prm) -> bool``
-    With ``c < 0``: tell whether the potential pair (id1, id2) is in contact now,
-    without writing anything. With ``c >= 0``: update the geometry columns of the
-    real contact ``c`` (and return True).
+``geom(c, id1, id2, shift, S, C, prm) -> float``
+    With ``c < 0`` (detection), without writing anything: the *separation* of the
+    potential pair (id1, id2) [m]. It is <= 0 when they are in contact now; otherwise
+    it must be a lower bound of the relative displacement (of centres, plus rotation
+    times the reach of shapes that turn) that would bring them into contact, because
+    the interaction loop skips the pair until its bodies have moved that far
+    (``pair_gap`` in :mod:`granum.core.contacts`). With ``c >= 0``: update the geometry
+    columns of the real contact ``c`` and return 0.
 ``phys(c, id1, id2, S, C, prm)``
     Compute the constant physical parameters of a new contact ``c`` from materials.
 ``law(c, id1, id2, S, C, prm) -> bool``

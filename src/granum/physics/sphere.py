@@ -34,7 +34,9 @@ def geom_sphere_sphere(c, id1, id2, shift, S, C, prm):
         \\quad C = x_1 + (r_1 - \\delta/2)\\, n
 
     A potential pair becomes real when |x2 - x1| <= f (r1 + r2), f being
-    ``interactionDetectionFactor`` (prm[0]).
+    ``interactionDetectionFactor`` (prm[0]). Detection (``c`` < 0) returns the
+    separation |x2 - x1| - f (r1 + r2) [m] (see the geometry protocol in
+    :mod:`granum.physics.registry`); with ``c`` >= 0 the geometry is written and 0 returned.
     """
     r1 = S.sphere_radius[S.shape_row[id1]]
     r2 = S.sphere_radius[S.shape_row[id2]]
@@ -42,11 +44,11 @@ def geom_sphere_sphere(c, id1, id2, shift, S, C, prm):
     d = sub(add(load3(S.pos, id2), shift), p1)
     dist = norm(d)
     if c < 0:
-        return dist <= prm[0] * (r1 + r2)
+        return dist - prm[0] * (r1 + r2)
     pen = r1 + r2 - dist
     n = scale(d, 1.0 / dist)
     scgeom_write(c, C, n, pen, add(p1, scale(n, r1 - 0.5 * pen)), r1, r2, prm[1] != 0.0)
-    return True
+    return 0.0
 
 
 registry.register_functor(Functor(

@@ -37,7 +37,8 @@ def geom_wall_sphere(c, id1, id2, shift, S, C, prm):
     the normal is +-e_a (towards the sphere, or fixed by the wall's ``sense``),
     delta = r - |d|, and C is the sphere centre projected on the plane.
     A wall with ``sense`` = +1 (-1) interacts only with spheres on its positive
-    (negative) side.
+    (negative) side. Detection (``c`` < 0) returns the separation |d| - r [m]; a sphere
+    on the side the wall ignores must first cross the plane: separation |d|.
     """
     row = S.shape_row[id1]
     a = S.wall_axis[row]
@@ -46,7 +47,7 @@ def geom_wall_sphere(c, id1, id2, shift, S, C, prm):
     x = add(load3(S.pos, id2), shift)
     d = x[a] - S.pos[id1, a]
     if c < 0:
-        return abs(d) <= r and (sense == 0 or sense * d >= 0.0)
+        return abs(d) - r if sense == 0 or sense * d >= 0.0 else abs(d)
     if sense != 0:
         side = float(sense)
     else:
@@ -55,7 +56,7 @@ def geom_wall_sphere(c, id1, id2, shift, S, C, prm):
     pen = r - side * d
     point = (S.pos[id1, 0] if a == 0 else x[0], S.pos[id1, 1] if a == 1 else x[1], S.pos[id1, 2] if a == 2 else x[2])
     scgeom_write(c, C, n, pen, point, r, r, prm[0] != 0.0)
-    return True
+    return 0.0
 
 
 registry.register_functor(Functor(
