@@ -167,3 +167,33 @@ def test_tags_hold_an_id_and_user_values(yade):
     assert {"id", "d.id", "id.d", "isoTime", "author"} <= set(yade.O.tags)
     yade.O.tags["run"] = "a"
     assert dict(yade.O.tags)["run"] == "a"
+
+
+def test_timing_enabled_times_every_engine(yade, capsys):
+    """O.timingEnabled: compiled stages are timed inside the step loop, PyRunners when they run
+    (real YADE 2023.02a counts 99 runs of an iterPeriod=100 PyRunner over 10000 steps)."""
+    O = yade.O
+
+    def bouncing():
+        O.bodies.append([yade.sphere((0, 0, 0), 0.5, fixed=True), yade.sphere((0, 0, 2), 0.5)])
+        O.engines = frict_engines(yade, gravity=(0, 0, -9.81), damping=0.1) + [
+            yade.PyRunner(command="pass", iterPeriod=100, label="pr")]
+        O.dt = 1e-5
+
+    bouncing()
+    O.run(1000, True)
+    assert all(e.execTime == 0 and e.execCount == 0 for e in O.engines), "not timed unless enabled"
+    O.reset()
+    bouncing()
+    O.timingEnabled = True
+    O.run(10000, True)
+    compiled, runner = O.engines[:4], O.engines[4]
+    assert [e.execCount for e in compiled] == [10000] * 4
+    assert runner.execCount == 99
+    assert all(e.execTime > 0 for e in O.engines)
+    yade.timing.stats()
+    out = capsys.readouterr().out.splitlines()
+    assert out[0].split() == ["Name", "Count", "Time", "Rel.", "time"]
+    assert [line.split()[0] for line in out[2:]] == ["ForceResetter", "InsertionSortCollider", "InteractionLoop",
+                                                      "NewtonIntegrator", '"pr"', "TOTAL"]
+    assert sum(float(line.split()[-1].rstrip("%")) for line in out[2:-1]) == pytest.approx(100, abs=0.05)

@@ -134,11 +134,12 @@ class Runner:
             virt_period = np.array([e.virtPeriod for e in virt])
             S = scene.arrays()
             C = CONTACTS.to_record(scene.contacts)
+            timing, times = self.timing(plan)
             t0 = time.perf_counter()
             done, why = call(plan.module.run_steps, m, S, C, self.params(plan), float(stop_time), virt_last,
-                             virt_period)
+                             virt_period, timing, times)
             scene.contacts = CONTACTS.from_record(C)
-            self.sync_counters(plan)
+            self.sync_counters(plan, times)
             if done:
                 self._step_seconds = max((time.perf_counter() - t0) / done, 1e-9)
             if why == steploop.WHY_ERROR:
@@ -150,30 +151,44 @@ class Runner:
         self.slow_step(plan)
         return 1
 
-    def sync_counters(self, plan: Plan) -> None:
-        """Copy the kernels' counters into the engines' read-only YADE attributes."""
+    def timing(self, plan: Plan) -> tuple[bool, np.ndarray]:
+        """Whether stages are timed (``O.timingEnabled``), and the (stages, 2) array they add to."""
+        return bool(getattr(self.omega, "timingEnabled", False)), np.zeros((len(plan.compiled), 2), np.int64)
+
+    def sync_counters(self, plan: Plan, times: np.ndarray) -> None:
+        """Copy the kernels' counters into the engines' read-only YADE attributes, and add the stages'
+        measured times (ns) and runs to their ``execTime`` and ``execCount``."""
         runs = int(self.scene.contacts.ctr[C_COLLIDER_RUNS])
-        for e in plan.compiled:
+        for k, e in enumerate(plan.compiled):
             if "numAction" in e._attrs:
                 object.__setattr__(e, "numAction", runs)
                 object.__setattr__(e, "numReinit", runs)
+            if times[k, 1]:
+                e.execTime += int(times[k, 0])
+                e.execCount += int(times[k, 1])
 
     def slow_step(self, plan: Plan) -> None:
         """One step, segment by segment, with the Python engines that are due."""
         scene = self.scene
+        timing, times = self.timing(plan)
         call(step_begin, scene.arrays())
         for kind, item in plan.items:
             if kind == "segment":
                 run = getattr(plan.module, f"run_segment_{item}")
                 S = scene.arrays()
                 C = CONTACTS.to_record(scene.contacts)
-                call(run, S, C, self.params(plan))
+                call(run, S, C, self.params(plan), timing, times)
                 scene.contacts = CONTACTS.from_record(C)
                 if scene.contacts.ctr[C_STATUS]:
+                    self.sync_counters(plan, times)
                     self.raise_status()
             elif not item.dead and item.due(scene):
+                t0 = time.perf_counter_ns()
                 item.run_python(self.omega)
-        self.sync_counters(plan)
+                if timing:
+                    item.execTime += time.perf_counter_ns() - t0
+                    item.execCount += 1
+        self.sync_counters(plan, times)
         call(step_end, scene.arrays())
         self.run_hooks(plan)
 

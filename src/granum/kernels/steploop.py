@@ -4,7 +4,7 @@ The engine list is split into *segments*: maximal runs of compiled engines,
 separated by Python engines. For each distinct list of compiled stages a module is
 generated (see :mod:`granum.kernels.codegen`) with
 
-``run_steps(nmax, S, C, PP, stop_time, virt_last, virt_period) -> (done, why)``
+``run_steps(nmax, S, C, PP, stop_time, virt_last, virt_period, timing, times) -> (done, why)``
     Runs up to ``nmax`` whole steps: deform the periodic cell, all stages back to
     back, advance the clock (:mod:`granum.kernels.cell`). It returns before a step
     when the simulated time reached ``stop_time`` or a Python engine with a period in
@@ -12,9 +12,12 @@ generated (see :mod:`granum.kernels.codegen`) with
     (``why = WHY_ERROR``), and after a step in which a compiled engine asked for its
     Python hook (``why = WHY_HOOK``). Valid only while no Python engine is due, which
     the runner guarantees for step-count and wall-clock periods.
-``run_segment_<k>(S, C, PP)``
+``run_segment_<k>(S, C, PP, timing, times)``
     Runs the stages of segment k once (a step with Python engines is run segment
     by segment from Python).
+
+With ``timing`` (``O.timingEnabled``) each stage adds its run time [ns] and one run to
+its row of ``times`` (int64, (stages, 2)), in engine order.
 
 ``PP`` is the tuple of the stages' parameter tuples, in engine order. Both functions
 borrow its arrays (:func:`granum.core.records.borrow`; the Python caller owns them),
@@ -37,6 +40,7 @@ from granum.core.arrays import I_HOOK, S_TIME
 from granum.core.contacts import C_STATUS
 from granum.core.records import borrow
 from granum.kernels.cell import step_begin, step_end
+from granum.kernels.clock import monotonic_ns
 '''
 
 
@@ -52,13 +56,17 @@ def render(segments: list[list[str]]) -> str:
     def calls(seg_index: int, first: int, indent: str, on_error: str) -> list[str]:
         out = []
         for j, ref in enumerate(segments[seg_index]):
-            out.append(f"{indent}{alias[ref]}(S, C, PP[{first + j}])")
-            out.append(f"{indent}if C.ctr[C_STATUS] != 0:")
-            out.append(f"{indent}    return {on_error}".rstrip())
+            k = first + j
+            out += [f"{indent}if timing:", f"{indent}    t0 = monotonic_ns()",
+                    f"{indent}{alias[ref]}(S, C, PP[{k}])",
+                    f"{indent}if timing:", f"{indent}    times[{k}, 0] += monotonic_ns() - t0",
+                    f"{indent}    times[{k}, 1] += 1",
+                    f"{indent}if C.ctr[C_STATUS] != 0:", f"{indent}    return {on_error}".rstrip()]
         return out
 
-    body = ["", "", "@jit", "def run_steps(nmax, S, C, PP, stop_time, virt_last, virt_period):",
+    body = ["", "", "@jit", "def run_steps(nmax, S, C, PP, stop_time, virt_last, virt_period, timing, times):",
             "    PP = borrow(PP)",
+            "    t0 = 0",
             "    done = 0",
             "    while done < nmax:",
             "        t = S.scal[S_TIME]",
@@ -79,7 +87,7 @@ def render(segments: list[list[str]]) -> str:
              f"    return done, {WHY_DONE}"]
     first = 0
     for k, seg in enumerate(segments):
-        body += ["", "", "@jit", f"def run_segment_{k}(S, C, PP):", "    PP = borrow(PP)"]
+        body += ["", "", "@jit", f"def run_segment_{k}(S, C, PP, timing, times):", "    PP = borrow(PP)", "    t0 = 0"]
         body += calls(k, first, "    ", "")
         first += len(seg)
     return "\n".join(lines + body) + "\n"

@@ -1,4 +1,9 @@
-"""YADE's ``yade.timing``: per-engine time statistics (``O.timingEnabled``)."""
+"""YADE's ``yade.timing``: per-engine time statistics (``O.timingEnabled``).
+
+With ``O.timingEnabled = True`` every compiled stage reads a monotonic clock around its run inside
+the compiled step loop (:mod:`granum.kernels.steploop`) and Python engines are timed when they run;
+the totals go to each engine's ``execTime`` [ns] and ``execCount``.
+"""
 
 from __future__ import annotations
 
@@ -13,11 +18,15 @@ def reset() -> None:
 
 
 def stats() -> None:
-    """Print the time spent in each engine."""
+    """Print the time spent in each engine, as YADE does (labelled engines by their label, quoted)."""
     from granum.yade.omega import O
 
-    total = sum(e.execTime for e in O.engines) or 1
-    print(f"{'Name':<40}{'Count':>12}{'Time':>16}{'Rel. time':>12}")
-    for e in O.engines:
-        name = e.label or type(e).__name__
-        print(f"{name:<40}{e.execCount:>12}{e.execTime / 1000:>14.0f}us{100 * e.execTime / total:>11.2f}%")
+    engines = list(O.engines)
+    total = sum(e.execTime for e in engines)
+    print(f"{'Name':<50}{'Count':>10}{'Time':>21}{'Rel. time':>21}")
+    print("-" * 103)
+    for e in engines:
+        name = f'"{e.label}"' if e.label else type(e).__name__
+        rel = 100.0 * e.execTime / total if total else 0.0
+        print(f"{name:<50}{e.execCount:>10}{e.execTime / 1000:>19.3f}us{rel:>20.2f}%")
+    print(f"{'TOTAL':<50}{'':>10}{total / 1000:>19.3f}us{100.0 if total else 0.0:>20.2f}%")
