@@ -333,3 +333,21 @@ def test_gui_names_are_accepted_headless(yade):
     r = yade.qt.Renderer()
     r.shape = False
     assert yade.Gl1_Sphere.stripes is True
+
+
+def test_detached_bodies_share_one_store_that_is_dropped_when_empty(yade):
+    """utils.sphere() bodies are rows of one shared store until appended: independent of each other,
+    and the store's tables are freed once every detached body was appended or dropped."""
+    from granum.yade.bodies import _NURSERY
+
+    a, b = yade.sphere((0, 0, 0), 0.5), yade.sphere((1, 0, 0), 0.25)
+    a.state.vel = (1, 2, 3)
+    assert tuple(b.state.vel) == (0, 0, 0) and b.shape.radius == 0.25 and a.id == b.id == -1
+    assert _NURSERY.live >= 2
+    yade.O.bodies.append([a, b])
+    assert _NURSERY.live == 0 and _NURSERY.bodies.count == 0
+    assert tuple(yade.O.bodies[0].state.vel) == (1, 2, 3) and yade.O.bodies[1].shape.radius == 0.25
+    dropped = [yade.sphere((k, 0, 0), 0.1) for k in range(100)]
+    assert _NURSERY.bodies.count >= 100
+    del dropped
+    assert _NURSERY.live == 0 and _NURSERY.bodies.count == 0
