@@ -9,7 +9,8 @@ potential pairs are never real, so granum keeps them apart:
     when the collider runs.
 ``pair_cell``  (P, 3) int32
     Periodic image of the second body of the pair: its position is taken as
-    ``pos + hSize @ pair_cell`` (YADE's ``cellDist``); zero in aperiodic scenes.
+    ``pos + hSize @ pair_cell`` (YADE's ``cellDist``). Aperiodic scenes store none
+    (0 rows) once the collider has run.
 ``pair_con``  (P,) int32
     Index of the pair's real contact in the pool, or -1.
 ``pair_gap``  (P,) float64

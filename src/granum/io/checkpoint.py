@@ -430,8 +430,8 @@ def scene_check(scene: Scene, source: str) -> None:
     _range(first + count, 0, members.count + 1, "clump member range", source)
     C = scene.contacts
     npair, ncon = int(C.ctr[C_PAIRS]), int(C.ctr[C_CONTACTS])
-    if not (0 <= npair <= min(len(C.pair_ids), len(C.pair_cell), len(C.pair_con), len(C.pair_gap),
-                            len(C.pair_hit))
+    images_ok = len(C.pair_cell) >= npair or (not scene.periodic and len(C.pair_cell) == 0)  # aperiodic: none
+    if not (images_ok and 0 <= npair <= min(len(C.pair_ids), len(C.pair_con), len(C.pair_gap), len(C.pair_hit))
             and 0 <= ncon <= len(C.con_i) == len(C.con_f)):
         raise CheckpointError(f"{source}: corrupt checkpoint (interaction counters exceed their arrays)")
     _range(C.pair_ids[:npair], 0, n, "pair body id", source)

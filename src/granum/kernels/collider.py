@@ -346,7 +346,7 @@ def relink_contact(c, C, pairs, start, cells, pair_con):
     a = min(id1, id2)
     b = max(id1, id2)
     p = find_pair(pairs, start, a, b)
-    if p >= 0:
+    if p >= 0 and cells.shape[0] > 0:
         # the pair must join the same periodic images as the contact
         sign = 1 if a == id1 else -1
         for k in range(3):
@@ -402,6 +402,13 @@ def collider_stage(S, C, P):
                 rmin = min(rmin, S.sphere_radius[S.shape_row[i]])
         verlet = -verlet * rmin if rmin < math.inf else 0.0
     S.scal[S_VERLET] = verlet
+    # drop the old pair list first: at a million bodies it takes hundreds of MB (relink needs only the contacts)
+    C.ctr[C_PAIRS] = 0
+    C.pair_ids = np.zeros((0, 2), np.int32)
+    C.pair_cell = np.zeros((0, 3), np.int32)
+    C.pair_con = np.zeros(0, np.int32)
+    C.pair_gap = np.zeros(0)
+    C.pair_hit = np.zeros(0, np.uint8)
     if nb < PARALLEL_THRESHOLD:
         compute_bounds(R, nb, bound_code, bound_prm, verlet)
     else:
@@ -417,14 +424,9 @@ def collider_stage(S, C, P):
             return
     else:
         pairs, start = find_pairs(R, nb, avoid_self)
-        cells = np.zeros((pairs.shape[0], 3), np.int32)
+        cells = np.zeros((0, 3), np.int32)  # aperiodic: no images (pair_cell is read in periodic cells only)
     n = pairs.shape[0]
-    cap = max(n, 16)
-    pair_ids = np.empty((cap, 2), np.int32)
-    pair_ids[:n] = pairs
-    pair_cell = np.zeros((cap, 3), np.int32)
-    pair_cell[:n] = cells
-    pair_con = np.full(cap, -1, np.int32)
+    pair_con = np.full(n, -1, np.int32)
     if C.ctr[C_CONTACTS] < PARALLEL_THRESHOLD:
         relink(raw(C), pairs, start, cells, pair_con)
     else:
@@ -432,8 +434,8 @@ def collider_stage(S, C, P):
     C.ctr[C_PAIRS] = n
     C.ctr[C_COLLIDE] = 0
     C.ctr[C_COLLIDER_RUNS] += 1
-    C.pair_ids = pair_ids
-    C.pair_cell = pair_cell
+    C.pair_ids = pairs
+    C.pair_cell = cells
     C.pair_con = pair_con
-    C.pair_gap = np.full(cap, -np.inf)
-    C.pair_hit = np.zeros(cap, np.uint8)
+    C.pair_gap = np.full(n, -np.inf)
+    C.pair_hit = np.zeros(n, np.uint8)

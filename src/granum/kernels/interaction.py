@@ -175,8 +175,9 @@ body_motions, body_motions_par = kernel(_body_motions)
 
 @jit
 def grow_contacts(C, need):
-    """Make room for at least ``need`` contacts (rows copied, capacity doubled)."""
-    cap = max(need, 2 * C.con_i.shape[0], 64)
+    """Make room for at least ``need`` contacts (rows copied; the capacity grows by half at least, so that
+    contacts appearing a few at a time are copied O(1) times each, and to ``need`` when more are asked)."""
+    cap = max(need, C.con_i.shape[0] + C.con_i.shape[0] // 2, 64)
     con_i = np.zeros((cap, NI), np.int32)
     con_f = np.zeros((cap, C.con_f.shape[1]), np.float64)
     n = C.ctr[C_CONTACTS]
@@ -230,7 +231,7 @@ def new_contact(S, C, a, b, p, geom_code, geom_swap, geom_type, phys_code, phys_
     C.con_i[c, I_LAW] = law
     sign = -1 if id1 == b else 1
     for k in range(3):
-        C.con_i[c, I_CELL + k] = sign * C.pair_cell[p, k] if p >= 0 else 0
+        C.con_i[c, I_CELL + k] = sign * C.pair_cell[p, k] if p >= 0 and C.pair_cell.shape[0] > 0 else 0
     C.con_i[c, I_BORN] = S.iscal[I_ITER]
     if p >= 0:
         C.pair_con[p] = c
@@ -241,7 +242,12 @@ def new_contact(S, C, a, b, p, geom_code, geom_swap, geom_type, phys_code, phys_
 
 @jit
 def create_contacts(S, C, geom_code, geom_swap, geom_type, phys_code, phys_swap, phys_type, law_code):
-    """Turn the touching pairs into contacts, in pair order (the storage may grow)."""
+    """Turn the touching pairs into contacts, in pair order (the storage grows once, to what is needed)."""
+    new = 0
+    for p in range(C.ctr[C_PAIRS]):
+        new += C.pair_hit[p] == HIT_TOUCH
+    if C.ctr[C_CONTACTS] + new > C.con_i.shape[0]:
+        grow_contacts(C, C.ctr[C_CONTACTS] + new)
     for p in range(C.ctr[C_PAIRS]):
         hit = C.pair_hit[p]
         if hit == 0:
