@@ -73,6 +73,11 @@ class Table:
         for name in self._columns:
             getattr(self, name)[dst_row] = getattr(src, name)[src_row]
 
+    def reset_row(self, row: int) -> None:
+        """Put the column defaults back into row ``row`` (for reusing it)."""
+        for c in self._columns.values():
+            getattr(self, c.name)[row] = c.default
+
     def view(self, name: str) -> np.ndarray:
         """The live rows ``[0, count)`` of column ``name``."""
         return getattr(self, name)[: self.count]

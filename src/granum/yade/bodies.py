@@ -33,18 +33,25 @@ class _Nursery(BodyStore):
     def __init__(self):
         super().__init__(capacity=64)
         self.live = 0
+        self.free: list[int] = []  # rows given back, reused first (shapes and states made on the way)
 
     def new_row(self) -> int:
-        row = self.bodies.append_rows(1)
+        if self.free:
+            row = self.free.pop()
+            self.bodies.reset_row(row)
+        else:
+            row = self.bodies.append_rows(1)
         self.bodies.alive[row] = True
         self.live += 1
         return row
 
-    def release(self) -> None:
-        """One detached body fewer (appended or dropped)."""
+    def release(self, row: int) -> None:
+        """Body row ``row`` is free again (its body was appended or dropped)."""
         self.live -= 1
         if self.live == 0:
-            BodyStore.__init__(self, capacity=64)
+            self.__init__()
+        else:
+            self.free.append(row)
 
 
 _NURSERY = _Nursery()
@@ -95,7 +102,7 @@ class Body:
     def __del__(self):
         store = getattr(self, "_store", None)
         if type(store) is _Nursery:  # a detached body that is dropped gives its row back
-            store.release()
+            store.release(self._row)
 
     def __eq__(self, other):
         return isinstance(other, Body) and other._store is self._store and other._row == self._row
@@ -650,7 +657,7 @@ class BodyContainer:
         scene.bodies.clump_id[i] = -1
         object.__setattr__(b, "_store", scene)
         object.__setattr__(b, "_row", i)
-        src.release()
+        src.release(row)
         return i
 
     def erase(self, i: int, eraseClumpMembers: bool = False) -> bool:
