@@ -112,7 +112,7 @@ def detect_pair(p, S, C, geom_code, geom_swap, geom_prm, pair_ok, moved):
 
 
 @jit
-def detect_block(b, S, C, geom_code, geom_swap, geom_prm, pair_ok, motion):
+def detect_block(b, S, C, geom_code, geom_swap, geom_prm, pair_ok, motion, hits):
     """Which pairs of block ``b`` without a contact touch now: ``pair_hit``.
 
     The geometry of a pair is evaluated only when the relative motion of its two bodies since
@@ -127,8 +127,9 @@ def detect_block(b, S, C, geom_code, geom_swap, geom_prm, pair_ok, motion):
     use up their budgets. The arrays are read into locals (borrowed: no reference counting per
     pair).
     """
-    motion, pair_con, pair_ids, pair_gap, pair_hit = borrow((motion, C.pair_con, C.pair_ids, C.pair_gap,
-                                                             C.pair_hit))
+    motion, hits, pair_con, pair_ids, pair_gap, pair_hit = borrow((motion, hits, C.pair_con, C.pair_ids,
+                                                                   C.pair_gap, C.pair_hit))
+    found = 0
     for p in range(b * BLOCK, min(C.ctr[C_PAIRS], (b + 1) * BLOCK)):
         hit = 0
         if pair_con[p] < 0:
@@ -140,12 +141,14 @@ def detect_block(b, S, C, geom_code, geom_swap, geom_prm, pair_ok, motion):
             moved = math.sqrt(dx * dx + dy * dy + dz * dz) + motion[i, 3] + motion[j, 3]
             if not moved < pair_gap[p]:
                 hit = detect_pair(p, S, C, geom_code, geom_swap, geom_prm, pair_ok, moved)
+                found += hit != 0
         pair_hit[p] = hit
+    hits[b] = found
 
 
-def _detect(S, C, geom_code, geom_swap, geom_prm, pair_ok, motion):
-    for b in prange((C.ctr[C_PAIRS] + BLOCK - 1) // BLOCK):
-        detect_block(b, S, C, geom_code, geom_swap, geom_prm, pair_ok, motion)
+def _detect(S, C, geom_code, geom_swap, geom_prm, pair_ok, motion, hits):
+    for b in prange(hits.shape[0]):
+        detect_block(b, S, C, geom_code, geom_swap, geom_prm, pair_ok, motion, hits)
 
 
 detect, detect_par = kernel(_detect)
@@ -241,24 +244,30 @@ def new_contact(S, C, a, b, p, geom_code, geom_swap, geom_type, phys_code, phys_
 
 
 @jit
-def create_contacts(S, C, geom_code, geom_swap, geom_type, phys_code, phys_swap, phys_type, law_code):
-    """Turn the touching pairs into contacts, in pair order (the storage grows once, to what is needed)."""
+def create_contacts(S, C, geom_code, geom_swap, geom_type, phys_code, phys_swap, phys_type, law_code, hits):
+    """Turn the touching pairs into contacts, in pair order, visiting only the blocks of pairs in which the
+    detection found something (``hits``: count per block); the storage grows once, to what is needed."""
     new = 0
-    for p in range(C.ctr[C_PAIRS]):
-        new += C.pair_hit[p] == HIT_TOUCH
+    for b in range(hits.shape[0]):
+        new += hits[b]
+    if new == 0:
+        return
     if C.ctr[C_CONTACTS] + new > C.con_i.shape[0]:
         grow_contacts(C, C.ctr[C_CONTACTS] + new)
-    for p in range(C.ctr[C_PAIRS]):
-        hit = C.pair_hit[p]
-        if hit == 0:
+    for b in range(hits.shape[0]):
+        if hits[b] == 0:
             continue
-        if hit == HIT_NO_FUNCTOR:
-            fail(C, STATUS_NO_GEOM, C.pair_ids[p, 0], C.pair_ids[p, 1])
-            return
-        c = new_contact(S, C, C.pair_ids[p, 0], C.pair_ids[p, 1], p, geom_code, geom_swap, geom_type,
-                           phys_code, phys_swap, phys_type, law_code)
-        if c < 0:
-            return
+        for p in range(b * BLOCK, min(C.ctr[C_PAIRS], (b + 1) * BLOCK)):
+            hit = C.pair_hit[p]
+            if hit == 0:
+                continue
+            if hit == HIT_NO_FUNCTOR:
+                fail(C, STATUS_NO_GEOM, C.pair_ids[p, 0], C.pair_ids[p, 1])
+                return
+            c = new_contact(S, C, C.pair_ids[p, 0], C.pair_ids[p, 1], p, geom_code, geom_swap, geom_type,
+                               phys_code, phys_swap, phys_type, law_code)
+            if c < 0:
+                return
 
 
 @jit
@@ -490,11 +499,12 @@ def interaction_stage(S, C, P):
         body_motions(R, nb, motion)
     else:
         body_motions_par(R, nb, motion)
+    hits = np.zeros((V.ctr[C_PAIRS] + BLOCK - 1) // BLOCK, np.int64)
     if V.ctr[C_PAIRS] < PARALLEL_THRESHOLD:
-        detect(R, V, geom_code, geom_swap, geom_prm, pair_ok, motion)
+        detect(R, V, geom_code, geom_swap, geom_prm, pair_ok, motion, hits)
     else:
-        detect_par(R, V, geom_code, geom_swap, geom_prm, pair_ok, motion)
-    create_contacts(S, C, geom_code, geom_swap, geom_type, phys_code, phys_swap, phys_type, law_code)
+        detect_par(R, V, geom_code, geom_swap, geom_prm, pair_ok, motion, hits)
+    create_contacts(S, C, geom_code, geom_swap, geom_type, phys_code, phys_swap, phys_type, law_code, hits)
     if C.ctr[C_STATUS] != 0:
         return
     V = raw(C)  # the storage may have grown
