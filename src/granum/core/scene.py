@@ -203,9 +203,14 @@ class Scene(BodyStore):
         self.iscal[I_NBODIES] = b.count
         self.contacts = resize_for_bodies(self.contacts, b.count)
         mat_kind, mat = self.material_arrays()
-        values = {c.name: getattr(b, c.name) for c in b.columns}
+        # lazy columns the kernels follow without looking (clump members, aspherical bodies)
+        if self.shapes[ShapeKind.CLUMP].count:
+            b.allocate("clump_rel_pos", "clump_rel_ori")
+        if self.shapes[ShapeKind.CLUMP].count or self.shapes[ShapeKind.BOX].count:
+            b.allocate("ang_mom")
+        values = {c.name: b.stored(c.name) for c in b.columns}
         for kind, table in self.shapes.items():
-            values.update({f"{kind.name.lower()}_{c.name}": getattr(table, c.name) for c in table.columns})
+            values.update({f"{kind.name.lower()}_{c.name}": table.stored(c.name) for c in table.columns})
         values.update(mat_kind=mat_kind, mat=mat, cell_hsize=self.cell_hsize, cell_velgrad=self.cell_velgrad,
                       cell_prev_velgrad=self.cell_prev_velgrad, cell_trsf=self.cell_trsf,
                       cell_bound_hsize=self.cell_bound_hsize, clump_members=self.clump_members.id,

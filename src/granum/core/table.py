@@ -3,7 +3,14 @@
 Every piece of per-entity state in granum (bodies, the per-kind shape tables, ...)
 lives in a :class:`Table`: a set of named NumPy columns that share one row count.
 Columns are allocated with spare capacity and grown geometrically, so appending
-rows is amortised O(1) and the kernels always see plain contiguous arrays.
+rows is amortised O(1) and the kernels always see plain contiguous arrays. Spare rows
+are zero pages the operating system has not handed out yet (``np.zeros``): a new row
+gets its defaults when it is appended, so capacity costs no resident memory.
+
+A *lazy* column (rarely used state such as permanent forces or clump-member offsets)
+is not allocated until Python code first reads it as an attribute of the table;
+until then :meth:`Table.stored` gives kernels an array of 0 rows, which they read as
+"the default for every row".
 
 A column array is replaced when the table grows; code that keeps a column across
 an append must fetch it again (views in :mod:`granum.yade` always read the column
@@ -27,6 +34,7 @@ class Column:
         dtype: NumPy dtype.
         default: value of a new row (broadcast to ``tail``).
         doc: meaning, units and shape of the column.
+        lazy: allocated on first use (see the module docstring).
     """
 
     name: str
@@ -34,6 +42,7 @@ class Column:
     dtype: str = "f8"
     default: object = 0
     doc: str = ""
+    lazy: bool = False
 
 
 class Table:
@@ -44,19 +53,49 @@ class Table:
         self.count = 0
         self._capacity = 0
         for c in columns:
-            setattr(self, c.name, np.empty((0,) + c.tail, dtype=c.dtype))
+            if not c.lazy:
+                setattr(self, c.name, np.zeros((0,) + c.tail, dtype=c.dtype))
         self._grow(max(capacity, 1))
+
+    def __getattr__(self, name: str):
+        # reached only for attributes not set yet: a lazy column's first use allocates it
+        c = self.__dict__.get("_columns", {}).get(name)
+        if c is None or not c.lazy:
+            raise AttributeError(f"{type(self).__name__} has no column {name!r}")
+        a = np.zeros((self._capacity,) + c.tail, dtype=c.dtype)
+        a[: self.count] = c.default
+        setattr(self, name, a)
+        return a
 
     @property
     def columns(self) -> tuple[Column, ...]:
         return tuple(self._columns.values())
 
+    def allocated(self, name: str) -> bool:
+        """Whether column ``name`` holds an array of the table's capacity (lazy ones: once used)."""
+        return name in self.__dict__
+
+    def allocate(self, *names: str) -> None:
+        """Allocate the lazy columns ``names`` now (their rows hold the defaults)."""
+        for name in names:
+            getattr(self, name)
+
+    def stored(self, name: str) -> np.ndarray:
+        """Column ``name`` as stored, without allocating it: a lazy column not used yet has 0 rows."""
+        a = self.__dict__.get(name)
+        if a is None:
+            c = self._columns[name]
+            a = np.zeros((0,) + c.tail, dtype=c.dtype)
+        return a
+
+    def _allocated_columns(self):
+        return [c for c in self._columns.values() if c.name in self.__dict__]
+
     def _grow(self, capacity: int) -> None:
-        for c in self._columns.values():
+        for c in self._allocated_columns():
             old = getattr(self, c.name)
-            new = np.empty((capacity,) + c.tail, dtype=c.dtype)
+            new = np.zeros((capacity,) + c.tail, dtype=c.dtype)
             new[: self.count] = old[: self.count]
-            new[self.count:] = c.default
             setattr(self, c.name, new)
         self._capacity = capacity
 
@@ -65,17 +104,22 @@ class Table:
         first = self.count
         if first + k > self._capacity:
             self._grow(max(2 * self._capacity, first + k))
+        for c in self._allocated_columns():
+            getattr(self, c.name)[first:first + k] = c.default
         self.count += k
         return first
 
     def copy_row(self, src: Table, src_row: int, dst_row: int) -> None:
         """Copy every column of ``src[src_row]`` into row ``dst_row`` of this table."""
-        for name in self._columns:
-            getattr(self, name)[dst_row] = getattr(src, name)[src_row]
+        for c in self._columns.values():
+            if src.allocated(c.name):
+                getattr(self, c.name)[dst_row] = getattr(src, c.name)[src_row]
+            elif self.allocated(c.name):
+                getattr(self, c.name)[dst_row] = c.default
 
     def reset_row(self, row: int) -> None:
         """Put the column defaults back into row ``row`` (for reusing it)."""
-        for c in self._columns.values():
+        for c in self._allocated_columns():
             getattr(self, c.name)[row] = c.default
 
     def view(self, name: str) -> np.ndarray:
@@ -84,9 +128,7 @@ class Table:
 
     def clear(self) -> None:
         """Remove all rows (capacity is kept)."""
-        for c in self._columns.values():
-            getattr(self, c.name)[:] = c.default
         self.count = 0
 
     def nbytes(self) -> int:
-        return sum(getattr(self, c.name).nbytes for c in self._columns.values())
+        return sum(getattr(self, c.name).nbytes for c in self._allocated_columns())

@@ -212,8 +212,9 @@ class _Encoder:
         return self.value(v, _FIELD_NAMES.get(name, f"scene.{name}"))
 
     def table(self, name: str, t: Table) -> dict:
+        # lazy columns never used are not stored: they load as their defaults
         return {"count": t.count, "columns": {c.name: self.array(f"{name}/{c.name}", getattr(t, c.name))
-                                              for c in t.columns}}
+                                              for c in t.columns if t.allocated(c.name)}}
 
 
 def scene_encode(scene: Scene, materials) -> tuple[dict, dict[str, np.ndarray]]:

@@ -13,15 +13,19 @@ from granum.physics.vec import cross, load3, sub
 
 
 @jit
-def reset_body(i, S):
+def reset_body(i, S, perm_f, perm_t):
+    """Force and torque of body ``i`` back to the permanent ones; ``perm_f``/``perm_t``: whether
+    there are any (``perm_force``/``perm_torque`` are lazy columns, 0 rows until a script sets one)."""
     for k in range(3):
-        S.force[i, k] = S.perm_force[i, k]
-        S.torque[i, k] = S.perm_torque[i, k]
+        S.force[i, k] = S.perm_force[i, k] if perm_f else 0.0
+        S.torque[i, k] = S.perm_torque[i, k] if perm_t else 0.0
 
 
 def _reset(S, nb):
+    perm_f = S.perm_force.shape[0] > 0
+    perm_t = S.perm_torque.shape[0] > 0
     for i in prange(nb):
-        reset_body(i, S)
+        reset_body(i, S, perm_f, perm_t)
 
 
 reset, reset_par = kernel(_reset)

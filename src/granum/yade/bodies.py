@@ -147,6 +147,7 @@ class Body:
         for name in ("color", "wire", "highlight"):
             getattr(b, name)[self._row] = src._col(name)[src._row]
         b.aspherical[self._row] = kind == ShapeKind.BOX
+        self._sync_ang_mom()
         self._touch()
 
     @property
@@ -201,6 +202,15 @@ class Body:
     @aspherical.setter
     def aspherical(self, value: bool) -> None:
         self._col("aspherical")[self._row] = bool(value)
+        self._sync_ang_mom()
+
+    def _sync_ang_mom(self) -> None:
+        """An aspherical body is integrated through its angular momentum L = R I R^T w (R: its
+        orientation): set L from the angular velocity (only such bodies use the column)."""
+        if self._col("aspherical")[self._row]:
+            r = np.asarray(Quaternion._wrap(self._col("ori")[self._row]).toRotationMatrix()._a)
+            w = self._col("ang_vel")[self._row]
+            self._col("ang_mom")[self._row] = r @ (self._col("inertia")[self._row] * (r.T @ w))
 
     @property
     def clumpId(self) -> int:
@@ -328,10 +338,7 @@ class State(_View):
     def angVel(self, value) -> None:
         w = _finite3(self._owner(), "angVel", value)
         self._col("ang_vel")[self._row] = w
-        # aspherical bodies are integrated through their angular momentum: keep it consistent
-        q = Quaternion._wrap(self._col("ori")[self._row])
-        r = np.asarray(q.toRotationMatrix()._a)
-        self._col("ang_mom")[self._row] = r @ (self._col("inertia")[self._row] * (r.T @ w))
+        self._body._sync_ang_mom()
 
     @property
     def mass(self) -> float:

@@ -86,7 +86,9 @@ class ForceContainer:
         return int(i)
 
     def _get(self, column: str, i: int):
-        return Vector3(*getattr(self._omega._scene.bodies, column)[self._id(i)])
+        a = self._omega._scene.bodies.stored(column)  # permanent forces: a lazy column, maybe not used yet
+        i = self._id(i)
+        return Vector3(*a[i]) if len(a) else Vector3(0.0, 0.0, 0.0)
 
     def f(self, id: int, sync: bool = False):
         """Force on body ``id`` in the last step [N]."""
@@ -133,8 +135,8 @@ class ForceContainer:
         b.force[:] = 0.0
         b.torque[:] = 0.0
         if resetAll:
-            b.perm_force[:] = 0.0
-            b.perm_torque[:] = 0.0
+            for column in ("perm_force", "perm_torque"):
+                b.stored(column)[:] = 0.0
 
 
 class Omega:
