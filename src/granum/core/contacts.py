@@ -13,7 +13,7 @@ potential pairs are never real, so granum keeps them apart:
     (0 rows) once the collider has run.
 ``pair_con``  (P,) int32
     Index of the pair's real contact in the pool, or -1.
-``pair_gap``  (P,) float64
+``pair_gap``  (P,) float32
     Motion budget of a pair without contact [m]: while the relative motion of its two
     bodies since the collider last ran stays below it, they cannot touch and the
     geometry is not evaluated (see :func:`granum.kernels.interaction.detect_block`).
@@ -24,7 +24,7 @@ potential pairs are never real, so granum keeps them apart:
     The pool of real contacts, one row per contact (all columns of a contact are
     adjacent in memory, which suits the per-contact loop). Column offsets are the
     ``I_*`` and ``F_*`` constants below; laws may declare extra history columns,
-    appended after the core ones.
+    appended after the core ones (see :func:`contact_width`).
 ``csr_start``, ``csr_con``  (N+1,) and (2K,) int32
     For each body, the indices of its live contacts in increasing order. Forces are
     gathered per body through this index, so the summation order is fixed and
@@ -64,33 +64,43 @@ F_R2 = 11          # reference radius of body 2 (ScGeom radius2) [m]
 F_KN = 12          # normal stiffness [N/m]
 F_KS = 13          # shear stiffness [N/m]
 F_TANPHI = 14      # tangent of the friction angle [-]
-F_CN = 15          # normal viscous damping coefficient [N s/m]
-F_CS = 16          # shear viscous damping coefficient [N s/m]
-F_FN = 17          # 17..19 normal force on body 2 [N]
-F_FS = 20          # 20..22 shear force on body 2 [N]
-F_E_ELAST = 23     # elastic energy stored in the contact [J]
-F_E_DISSIP = 24    # energy dissipated by friction during this step [J]
-NF_CORE = 25
+F_FN = 15          # 15..17 normal force on body 2 [N]
+F_FS = 18          # 18..20 shear force on body 2 [N]
+NF_CORE = 21
 
-#: Extra float columns declared by contact laws for their history, name -> (offset, width).
+#: Optional float column groups after the core ones, name -> (offset, width), in offset order.
+#: The pool is only as wide as the last group its plan uses (the energies when O.trackEnergy,
+#: the history the laws of its InteractionLoop declare): a Cundall-Strack packing stores 21
+#: floats per contact, not 28.
 HISTORY_COLUMNS: dict[str, tuple[int, int]] = {}
 
 
 def register_history(name: str, width: int) -> int:
-    """Declare a per-contact history column of a law; return its offset in ``con_f``.
+    """Declare a group of per-contact float columns (a law's history); return its offset in ``con_f``.
 
-    Must be called at import time of the law's module, before any scene exists.
+    Must be called at import time of the law's module, before any scene exists. Functors that use
+    the group name it in :attr:`granum.physics.registry.Functor.history`.
     """
     if name in HISTORY_COLUMNS:
         raise ValueError(f"contact history column {name!r} is declared twice")
-    offset = NF_CORE + sum(w for _, w in HISTORY_COLUMNS.values())
+    offset = nf()
     HISTORY_COLUMNS[name] = (offset, width)
     return offset
 
 
 def nf() -> int:
-    """Number of float columns of a contact: the core ones and the laws' history."""
+    """Number of float columns of a contact when every group is in use."""
     return NF_CORE + sum(w for _, w in HISTORY_COLUMNS.values())
+
+
+def contact_width(groups) -> int:
+    """Width of ``con_f`` that holds the core columns and the history groups named in ``groups``."""
+    return max([NF_CORE] + [HISTORY_COLUMNS[g][0] + HISTORY_COLUMNS[g][1] for g in groups])
+
+
+F_E_ELAST = register_history("energy", 2)  # elastic energy stored in the contact [J] (O.trackEnergy)
+F_E_DISSIP = F_E_ELAST + 1                  # energy dissipated by friction during this step [J]
+NF_ENERGY = F_E_DISSIP + 1                  # width of a pool whose laws keep no history, with energies
 
 FLAG_ALIVE = 1     # the row holds a live contact
 FLAG_NEW = 2       # physics constants not computed yet
@@ -118,7 +128,7 @@ STATUS_TOO_LARGE = 5    # a body is wider than half the periodic cell (ERR_A: bo
 
 #: Record of the interaction storage passed to kernels (see the module docstring).
 CONTACTS = RecordSpec("ContactArrays", [
-    ("pair_ids", "i4", 2), ("pair_cell", "i4", 2), ("pair_con", "i4", 1), ("pair_gap", "f8", 1), ("pair_hit", "u1", 1),
+    ("pair_ids", "i4", 2), ("pair_cell", "i4", 2), ("pair_con", "i4", 1), ("pair_gap", "f4", 1), ("pair_hit", "u1", 1),
     ("con_i", "i4", 2),
     ("con_f", "f8", 2), ("csr_start", "i4", 1), ("csr_con", "i4", 1), ("ctr", "i8", 1)])
 ContactArrays = CONTACTS.tuple
@@ -134,10 +144,10 @@ def new_contact_arrays(n_bodies: int, pair_capacity: int = 64, contact_capacity:
         pair_ids=np.zeros((pair_capacity, 2), np.int32),
         pair_cell=np.zeros((pair_capacity, 3), np.int32),
         pair_con=np.full(pair_capacity, -1, np.int32),
-        pair_gap=np.full(pair_capacity, -np.inf),
+        pair_gap=np.full(pair_capacity, -np.inf, np.float32),
         pair_hit=np.zeros(pair_capacity, np.uint8),
         con_i=con_i,
-        con_f=np.zeros((contact_capacity, nf()), np.float64),
+        con_f=np.zeros((contact_capacity, NF_CORE), np.float64),
         csr_start=np.zeros(n_bodies + 1, np.int32),
         csr_con=np.zeros(2 * contact_capacity, np.int32),
         ctr=ctr,

@@ -12,6 +12,7 @@ import numpy as np
 
 from granum.core.attrs import Attr, to_bool, to_float, to_int
 from granum.core.bodies import ShapeKind
+from granum.core.contacts import contact_width
 from granum.engines.base import GlobalEngine
 from granum.engines.functors import check_role, param_table
 from granum.kernels.dispatch import code_of, functors
@@ -195,7 +196,9 @@ class InteractionLoop(GlobalEngine):
         scene.detection_uses(t["geom_code"].tobytes() + t["geom_swap"].tobytes() + geom_prm.tobytes())
         return (t["geom_code"], t["geom_swap"], geom_prm, t["geom_type"],
                 t["phys_code"], t["phys_swap"], param_table("phys", self.physDispatcher.functors), t["phys_type"],
-                t["law_code"], param_table("law", self.lawDispatcher.functors), t["pair_ok"])
+                t["law_code"], param_table("law", self.lawDispatcher.functors), t["pair_ok"],
+                contact_width({g for d in (self.physDispatcher, self.lawDispatcher) for f in d.functors
+                               for g in f.spec.history}))
 
 
 class NewtonIntegrator(GlobalEngine):

@@ -19,6 +19,7 @@ import time
 import numpy as np
 
 from granum._jit import call
+from granum.core import heap
 from granum.core.arrays import I_HOOK
 from granum.core.bodies import ShapeKind
 from granum.core.contacts import (
@@ -37,6 +38,8 @@ from granum.kernels.cell import step_begin, step_end
 
 #: Longest wall-clock time of one compiled chunk [s].
 CHUNK_SECONDS = 0.25
+#: a run that finds the body count changed by this much first gives the freed heap back (granum.core.heap)
+TRIM_BODIES = 10_000
 
 
 class SimulationError(RuntimeError):
@@ -82,6 +85,7 @@ class Runner:
         # running estimate of the wall time of one step; pessimistic until measured, so that the first
         # chunk is one step and O.pause(), Ctrl-C and realPeriod are honoured from the start
         self._step_seconds = CHUNK_SECONDS
+        self._trimmed_at = 0
 
     def plan(self) -> Plan:
         engines = self.scene.engines
@@ -127,6 +131,9 @@ class Runner:
         scene = self.scene
         plan = self.plan()
         self.check_scene()
+        if abs(scene.body_count - self._trimmed_at) >= TRIM_BODIES:  # a large scene was just built
+            heap.trim()
+            self._trimmed_at = scene.body_count
         m = self.steps_allowed(plan, limit)
         if m > 0:
             virt = [e for e in plan.python if e.virtPeriod > 0 and e.nDone > 0 and not 0 <= e.nDo <= e.nDone]

@@ -407,7 +407,7 @@ def collider_stage(S, C, P):
     C.pair_ids = np.zeros((0, 2), np.int32)
     C.pair_cell = np.zeros((0, 3), np.int32)
     C.pair_con = np.zeros(0, np.int32)
-    C.pair_gap = np.zeros(0)
+    C.pair_gap = np.zeros(0, np.float32)
     C.pair_hit = np.zeros(0, np.uint8)
     if nb < PARALLEL_THRESHOLD:
         compute_bounds(R, nb, bound_code, bound_prm, verlet)
@@ -437,5 +437,5 @@ def collider_stage(S, C, P):
     C.pair_ids = pairs
     C.pair_cell = cells
     C.pair_con = pair_con
-    C.pair_gap = np.full(n, -np.inf)
+    C.pair_gap = np.full(n, -np.inf, np.float32)
     C.pair_hit = np.zeros(n, np.uint8)

@@ -60,6 +60,7 @@ from granum.core.contacts import (
     I_LAW,
     I_PAIR,
     I_PHYS,
+    NF_ENERGY,
     NI,
     STATUS_NO_GEOM,
     STATUS_NO_LAW,
@@ -107,8 +108,18 @@ def detect_pair(p, S, C, geom_code, geom_swap, geom_prm, pair_ok, moved):
         sep = geom_call(code, -1, a, b, shift, S, C, geom_prm)
     if sep <= 0.0:
         return HIT_TOUCH
-    C.pair_gap[p] = sep - moved
+    C.pair_gap[p] = budget_f32(sep - moved)
     return 0
+
+
+@jit
+def budget_f32(x):
+    """``x`` rounded down to float32, the type of ``pair_gap`` (a budget may be smaller than the true
+    one, never larger: a pair that could touch is always evaluated)."""
+    g = np.float32(x)
+    if g > x:
+        g = np.nextafter(g, np.float32(-np.inf))
+    return g
 
 
 @jit
@@ -189,6 +200,15 @@ def grow_contacts(C, need):
     C.con_i = con_i
     C.con_f = con_f
     C.csr_con = np.zeros(2 * cap, np.int32)
+
+
+@jit
+def widen_contacts(C, width):
+    """Give ``con_f`` at least ``width`` columns (new ones zero: history starts empty)."""
+    if C.con_f.shape[1] < width:
+        con_f = np.zeros((C.con_f.shape[0], width), np.float64)
+        con_f[:, :C.con_f.shape[1]] = C.con_f
+        C.con_f = con_f
 
 
 @jit
@@ -276,7 +296,9 @@ def create_contact_now(S, C, a, b, P):
 
     The geometry and physics are computed immediately; the law acts from the next step.
     """
-    geom_code, geom_swap, geom_prm, geom_type, phys_code, phys_swap, phys_prm, phys_type, law_code, law_prm, pair_ok = P
+    (geom_code, geom_swap, geom_prm, geom_type, phys_code, phys_swap, phys_prm, phys_type, law_code, law_prm, pair_ok,
+     width) = P
+    widen_contacts(C, width)
     lo = min(a, b)
     hi = max(a, b)
     p = -1
@@ -488,9 +510,13 @@ def interaction_stage(S, C, P):
     """Engine stage of InteractionLoop.
 
     P = (geom_code, geom_swap, geom_prm, geom_type, phys_code, phys_swap, phys_prm,
-    phys_type, law_code, law_prm, pair_ok); see :mod:`granum.engines.interaction`.
+    phys_type, law_code, law_prm, pair_ok, width); see :mod:`granum.engines.pipeline`.
+    ``width``: the ``con_f`` columns the loop's functors use (with the energy columns when
+    O.trackEnergy); a narrower pool is widened first.
     """
-    geom_code, geom_swap, geom_prm, geom_type, phys_code, phys_swap, phys_prm, phys_type, law_code, law_prm, pair_ok = P
+    (geom_code, geom_swap, geom_prm, geom_type, phys_code, phys_swap, phys_prm, phys_type, law_code, law_prm, pair_ok,
+     width) = P
+    widen_contacts(C, max(width, NF_ENERGY) if S.iscal[I_TRACK_ENERGY] else width)
     nb = S.iscal[I_NBODIES]
     R = raw(S)  # hot loops read the records through raw views (see granum.core.records)
     V = raw(C)

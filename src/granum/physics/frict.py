@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 
 from granum._jit import jit
-from granum.core.arrays import S_DT
+from granum.core.arrays import I_TRACK_ENERGY, S_DT
 from granum.core.contacts import (
     F_E_DISSIP,
     F_E_ELAST,
@@ -112,8 +112,9 @@ def law_cundall_strack(c, id1, id2, S, C, prm):
             return False
         for k in range(6):
             f[c, F_FN + k] = 0.0
-        f[c, F_E_ELAST] = 0.0
-        f[c, F_E_DISSIP] = 0.0
+        if S.iscal[I_TRACK_ENERGY]:  # the energy columns exist only then (granum.core.contacts)
+            f[c, F_E_ELAST] = 0.0
+            f[c, F_E_DISSIP] = 0.0
         return True
     kn = f[c, F_KN]
     ks = f[c, F_KS]
@@ -134,11 +135,12 @@ def law_cundall_strack(c, id1, id2, S, C, prm):
     for k in range(3):
         f[c, F_FN + k] = fn[k]
         f[c, F_FS + k] = fs[k]
-    elast = 0.5 * dot(fn, fn) / kn if kn > 0.0 else 0.0
-    if ks > 0.0:
-        elast += 0.5 * norm(fs) ** 2 / ks
-    f[c, F_E_ELAST] = elast
-    f[c, F_E_DISSIP] = dissip
+    if S.iscal[I_TRACK_ENERGY]:
+        elast = 0.5 * dot(fn, fn) / kn if kn > 0.0 else 0.0
+        if ks > 0.0:
+            elast += 0.5 * norm(fs) ** 2 / ks
+        f[c, F_E_ELAST] = elast
+        f[c, F_E_DISSIP] = dissip
     if prm[1] != 0.0:   # sphericalBodies: YADE's radial lever arms for the torques
         C.con_i[c, I_FLAGS] |= FLAG_RADIAL_ARMS
     return True

@@ -93,6 +93,8 @@ class Functor:
         func: ``"module:function"`` of the compiled function.
         params: instance parameters, in the order of the ``prm`` array.
         doc: description with formula and reference.
+        history: the contact column groups the function reads or writes beyond the core ones
+            (:func:`granum.core.contacts.register_history`); the pool is made that wide.
     """
 
     yade_name: str
@@ -102,6 +104,7 @@ class Functor:
     func: str
     params: tuple[Param, ...] = ()
     doc: str = ""
+    history: tuple[str, ...] = ()
 
 
 MATERIALS: dict[str, MaterialKind] = {}

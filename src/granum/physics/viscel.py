@@ -30,8 +30,6 @@ import math
 from granum._jit import jit
 from granum.core.arrays import S_DT
 from granum.core.contacts import (
-    F_CN,
-    F_CS,
     F_E_DISSIP,
     F_E_ELAST,
     F_FN,
@@ -67,10 +65,15 @@ registry.register_material(MaterialKind(
     columns={"tc": "visc_tc", "en": "visc_en", "et": "visc_et", "kn": "visc_kn", "cn": "visc_cn",
              "ks": "visc_ks", "cs": "visc_cs"},
     doc="Material of the linear visco-elastic contact (spring-dashpot with Coulomb friction)."))
+#: normal and shear damping coefficients of the contact (ViscElPhys cn, cs) [N s/m]
+F_CN = register_history("viscel_damping", 2)
+F_CS = F_CN + 1
 registry.register_phys_type("ViscElPhys", "FrictPhys", {"cn": (F_CN, 1), "cs": (F_CS, 1)})
 
 #: elastic part of the shear force (the spring's state; F_FS also holds the dashpot part) [N]
 F_SHEAR_EL = register_history("viscel_shear_elastic", 3)
+#: the history groups both viscoelastic functors use
+HISTORY = ("viscel_damping", "viscel_shear_elastic")
 
 M_TC = materials.column("visc_tc")
 M_EN = materials.column("visc_en")
@@ -185,7 +188,7 @@ registry.register_functor(Functor(
      Param("en", None, "Per-material-pair normal restitution (MatchMaker)"),
      Param("et", None, "Per-material-pair tangential restitution (MatchMaker)"),
      Param("frictAngle", None, "Per-material-pair friction angle (MatchMaker)")),
-    phys_viscel.py_func.__doc__))
+    phys_viscel.py_func.__doc__, HISTORY))
 registry.register_functor(Functor(
     "Law2_ScGeom_ViscElPhys_Basic", "law", ("ScGeom", "ViscElPhys"), None,
-    f"{__name__}:law_viscel", (), law_viscel.py_func.__doc__))
+    f"{__name__}:law_viscel", (), law_viscel.py_func.__doc__, HISTORY))
