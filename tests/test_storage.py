@@ -84,3 +84,56 @@ def test_an_aspherical_body_gets_its_angular_momentum_from_its_angular_velocity(
     O.bodies.append(s)
     s.aspherical = True                   # turned aspherical later: L = I w from then on
     assert np.allclose(np.asarray(s.state.angMom), np.asarray(s.state.inertia) * (1.0, 0.0, 0.0), rtol=1e-14)
+
+
+def _pile(y, n=6):
+    """A column of slightly overlapping spheres on a wall: contacts from the first step on."""
+    O = y.O
+    O.bodies.append(y.wall((0, 0, 0), 2))
+    O.bodies.append([y.sphere((0.001 * k, 0, 0.0099 + 0.0198 * k), 0.01) for k in range(n)])
+    return O
+
+
+def test_the_contact_pool_stores_only_the_columns_its_laws_use(yade):
+    from granum.core.contacts import NF_CORE, NF_ENERGY, NI, NI_CORE, nf
+
+    O = _pile(yade)
+    O.engines = frict_engines(yade, gravity=(0, 0, -9.81))
+    O.dt = 1e-6
+    O.run(5, True)
+    C = O._scene.contacts
+    assert O.interactions.countReal() > 0
+    assert C.con_f.shape[1] == NF_CORE and C.con_i.shape[1] == NI_CORE
+    O.trackEnergy = True
+    O.run(5, True)
+    assert O._scene.contacts.con_f.shape[1] == NF_ENERGY and O.energy["elastPotential"] > 0
+    O.periodic = True
+    assert O._scene.contacts.con_i.shape[1] == NI and O.interactions.all()[0].cellDist == yade.Vector3i(0, 0, 0)
+
+    yade.O.reset()
+    O = _pile(yade)
+    mat = O.materials.append(yade.ViscElMat(tc=1e-3, en=0.5, et=0.5, frictionAngle=0.3, density=2600))
+    for b in O.bodies:
+        b.material = O.materials[mat]
+    O.engines = [yade.ForceResetter(), yade.InsertionSortCollider([yade.Bo1_Sphere_Aabb(), yade.Bo1_Wall_Aabb()]),
+                 yade.InteractionLoop([yade.Ig2_Sphere_Sphere_ScGeom(), yade.Ig2_Wall_Sphere_ScGeom()],
+                                      [yade.Ip2_ViscElMat_ViscElMat_ViscElPhys()],
+                                      [yade.Law2_ScGeom_ViscElPhys_Basic()]),
+                 yade.NewtonIntegrator(gravity=(0, 0, -9.81))]
+    O.dt = 1e-6
+    O.run(5, True)
+    assert O._scene.contacts.con_f.shape[1] == nf() and O.interactions.all()[0].phys.cn > 0
+
+
+def test_tracking_energy_does_not_change_the_motion(yade):
+    """The energy columns are bookkeeping: positions are bitwise the same with and without them."""
+    runs = []
+    for track in (False, True):
+        yade.O.reset()
+        O = _pile(yade)
+        O.engines = frict_engines(yade, gravity=(0, 0, -9.81), damping=0.1)
+        O.dt = 1e-5
+        O.trackEnergy = track
+        O.run(300, True)
+        runs.append(np.array([tuple(b.state.pos) for b in O.bodies]))
+    assert np.array_equal(runs[0], runs[1])

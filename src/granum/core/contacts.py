@@ -20,11 +20,12 @@ potential pairs are never real, so granum keeps them apart:
     -inf: evaluate at the next step (new pairs, ended contacts).
 ``pair_hit``  (P,) uint8
     Outcome of this step's detection for the pair (``HIT_*`` of the interaction loop).
-``con_i``, ``con_f``  (K, NI) int32 and (K, NF) float64
+``con_i``, ``con_f``  (K, NI_CORE or NI) int32 and (K, NF) float64
     The pool of real contacts, one row per contact (all columns of a contact are
     adjacent in memory, which suits the per-contact loop). Column offsets are the
     ``I_*`` and ``F_*`` constants below; laws may declare extra history columns,
-    appended after the core ones (see :func:`contact_width`).
+    appended after the core ones (see :func:`contact_width`); the periodic image columns
+    of ``con_i`` exist in periodic scenes only.
 ``csr_start``, ``csr_con``  (N+1,) and (2K,) int32
     For each body, the indices of its live contacts in increasing order. Forces are
     gathered per body through this index, so the summation order is fixed and
@@ -50,9 +51,10 @@ I_FLAGS = 3      # FLAG_* bits
 I_GEOM = 4       # code of the geometry functor
 I_PHYS = 5       # code of the physics functor
 I_LAW = 6        # code of the law functor
-I_CELL = 7       # 7, 8, 9: periodic image of body 2 (YADE cellDist)
-I_BORN = 10      # step at which the contact became real
-NI = 11
+I_BORN = 7       # step at which the contact became real
+NI_CORE = 8      # width of con_i in an aperiodic scene
+I_CELL = 8       # 8, 9, 10: periodic image of body 2 (YADE cellDist); periodic scenes only
+NI = 11          # width of con_i in a periodic scene
 
 # ---- float columns of con_f -------------------------------------------------------
 F_NORMAL = 0       # 0..2  unit normal from body 1 to body 2 [-]
@@ -134,9 +136,10 @@ CONTACTS = RecordSpec("ContactArrays", [
 ContactArrays = CONTACTS.tuple
 
 
-def new_contact_arrays(n_bodies: int, pair_capacity: int = 64, contact_capacity: int = 64) -> ContactArrays:
-    """Empty interaction storage for ``n_bodies`` bodies."""
-    con_i = np.zeros((contact_capacity, NI), np.int32)
+def new_contact_arrays(n_bodies: int, pair_capacity: int = 64, contact_capacity: int = 64,
+                       periodic: bool = False) -> ContactArrays:
+    """Empty interaction storage for ``n_bodies`` bodies (with the image columns when ``periodic``)."""
+    con_i = np.zeros((contact_capacity, NI if periodic else NI_CORE), np.int32)
     con_i[:, I_PAIR] = -1
     ctr = np.zeros(NCTR, np.int64)
     ctr[C_COLLIDE] = 1
@@ -152,6 +155,15 @@ def new_contact_arrays(n_bodies: int, pair_capacity: int = 64, contact_capacity:
         csr_con=np.zeros(2 * contact_capacity, np.int32),
         ctr=ctr,
     )
+
+
+def with_images(C: ContactArrays) -> ContactArrays:
+    """Storage with the periodic image columns ``I_CELL`` (zero for the contacts so far)."""
+    if C.con_i.shape[1] >= NI:
+        return C
+    con_i = np.zeros((C.con_i.shape[0], NI), np.int32)
+    con_i[:, :C.con_i.shape[1]] = C.con_i
+    return C._replace(con_i=con_i)
 
 
 def resize_for_bodies(C: ContactArrays, n_bodies: int) -> ContactArrays:

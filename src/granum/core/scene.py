@@ -28,7 +28,7 @@ from granum.core.arrays import (
     SCENE,
 )
 from granum.core.bodies import ShapeKind, new_body_table
-from granum.core.contacts import C_COLLIDE, new_contact_arrays, resize_for_bodies
+from granum.core.contacts import C_COLLIDE, new_contact_arrays, resize_for_bodies, with_images
 from granum.core.shapes import CLUMP_MEMBER_COLUMNS, new_shape_tables
 from granum.core.table import Table
 from granum.physics import registry
@@ -148,6 +148,8 @@ class Scene(BodyStore):
     @periodic.setter
     def periodic(self, on: bool) -> None:
         self.iscal[I_PERIODIC] = int(bool(on))
+        if on:
+            self.contacts = with_images(self.contacts)
         self.needs_collider()
 
     @property
@@ -173,7 +175,7 @@ class Scene(BodyStore):
         self.clump_members.clear()
         for t in self.shapes.values():
             t.clear()
-        self.contacts = new_contact_arrays(0)
+        self.contacts = new_contact_arrays(0, periodic=self.periodic)
 
     def add_body_row(self) -> int:
         """Append a body row (all defaults); return its id."""

@@ -70,6 +70,8 @@ from granum.core.contacts import (
     I_PAIR,
     I_PHYS,
     NF_CORE,
+    NI,
+    NI_CORE,
     nf,
 )
 from granum.core.scene import Scene
@@ -359,7 +361,8 @@ class _Decoder:
             for f, ref in zip(fresh._fields, fresh, strict=True):
                 a = self.array(saved[f])
                 tail_ok = a.shape[1:] == ref.shape[1:] or (  # the contact pool is as wide as its laws need
-                    f == "con_f" and a.ndim == 2 and NF_CORE <= a.shape[1] <= nf())
+                    f == "con_f" and a.ndim == 2 and NF_CORE <= a.shape[1] <= nf()) or (
+                    f == "con_i" and a.ndim == 2 and a.shape[1] in (NI_CORE, NI))  # images: periodic only
                 if a.dtype != ref.dtype or a.ndim != ref.ndim or not tail_ok:
                     raise self.fail(f"{name}.{f} is {a.dtype} {a.shape}; this granum needs {ref.dtype} "
                                     f"(n,{''.join(f' {k},' for k in ref.shape[1:])[:-1]})")
@@ -435,7 +438,8 @@ def scene_check(scene: Scene, source: str) -> None:
     _range(first + count, 0, members.count + 1, "clump member range", source)
     C = scene.contacts
     npair, ncon = int(C.ctr[C_PAIRS]), int(C.ctr[C_CONTACTS])
-    images_ok = len(C.pair_cell) >= npair or (not scene.periodic and len(C.pair_cell) == 0)  # aperiodic: none
+    images_ok = (len(C.pair_cell) >= npair or (not scene.periodic and len(C.pair_cell) == 0)) and (  # aperiodic: none
+        C.con_i.shape[1] == NI or not scene.periodic)
     if not (images_ok and 0 <= npair <= min(len(C.pair_ids), len(C.pair_con), len(C.pair_gap), len(C.pair_hit))
             and 0 <= ncon <= len(C.con_i) == len(C.con_f)):
         raise CheckpointError(f"{source}: corrupt checkpoint (interaction counters exceed their arrays)")

@@ -346,7 +346,7 @@ def relink_contact(c, C, pairs, start, cells, pair_con):
     a = min(id1, id2)
     b = max(id1, id2)
     p = find_pair(pairs, start, a, b)
-    if p >= 0 and cells.shape[0] > 0:
+    if p >= 0 and cells.shape[0] > 0 and C.con_i.shape[1] > I_CELL:
         # the pair must join the same periodic images as the contact
         sign = 1 if a == id1 else -1
         for k in range(3):

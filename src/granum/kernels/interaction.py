@@ -61,7 +61,6 @@ from granum.core.contacts import (
     I_PAIR,
     I_PHYS,
     NF_ENERGY,
-    NI,
     STATUS_NO_GEOM,
     STATUS_NO_LAW,
     STATUS_NO_PHYS,
@@ -192,7 +191,7 @@ def grow_contacts(C, need):
     """Make room for at least ``need`` contacts (rows copied; the capacity grows by half at least, so that
     contacts appearing a few at a time are copied O(1) times each, and to ``need`` when more are asked)."""
     cap = max(need, C.con_i.shape[0] + C.con_i.shape[0] // 2, 64)
-    con_i = np.zeros((cap, NI), np.int32)
+    con_i = np.zeros((cap, C.con_i.shape[1]), np.int32)
     con_f = np.zeros((cap, C.con_f.shape[1]), np.float64)
     n = C.ctr[C_CONTACTS]
     con_i[:n] = C.con_i[:n]
@@ -252,9 +251,10 @@ def new_contact(S, C, a, b, p, geom_code, geom_swap, geom_type, phys_code, phys_
     C.con_i[c, I_GEOM] = g
     C.con_i[c, I_PHYS] = ph
     C.con_i[c, I_LAW] = law
-    sign = -1 if id1 == b else 1
-    for k in range(3):
-        C.con_i[c, I_CELL + k] = sign * C.pair_cell[p, k] if p >= 0 and C.pair_cell.shape[0] > 0 else 0
+    if C.con_i.shape[1] > I_CELL:  # periodic scene
+        sign = -1 if id1 == b else 1
+        for k in range(3):
+            C.con_i[c, I_CELL + k] = sign * C.pair_cell[p, k] if p >= 0 and C.pair_cell.shape[0] > 0 else 0
     C.con_i[c, I_BORN] = S.iscal[I_ITER]
     if p >= 0:
         C.pair_con[p] = c

@@ -168,9 +168,10 @@ class Interaction:
     @property
     def cellDist(self):
         row = self._row()
-        if row < 0:
+        con_i = self._scene.contacts.con_i
+        if row < 0 or con_i.shape[1] <= I_CELL:  # aperiodic scenes store no images
             return Vector3i(0, 0, 0)
-        return Vector3i(*self._scene.contacts.con_i[row, I_CELL:I_CELL + 3])
+        return Vector3i(*con_i[row, I_CELL:I_CELL + 3])
 
     @property
     def iterMadeReal(self) -> int:
