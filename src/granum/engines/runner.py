@@ -79,6 +79,7 @@ class Runner:
     """Advances a scene by running its engine list."""
 
     def __init__(self, scene, omega):
+        heap.configure()
         self.scene = scene
         self.omega = omega
         self._plan: Plan | None = None
