@@ -40,6 +40,7 @@ from granum.kernels.cell import step_begin, step_end
 CHUNK_SECONDS = 0.25
 #: a run that finds the body count changed by this much first gives the freed heap back (granum.core.heap)
 TRIM_BODIES = 10_000
+_NONE = np.zeros(0)  # no engine with a period in simulated time
 
 
 class SimulationError(RuntimeError):
@@ -144,7 +145,7 @@ class Runner:
             C = CONTACTS.to_record(scene.contacts)
             timing, times = self.timing(plan)
             t0 = time.perf_counter()
-            done, why = call(plan.module.run_steps, m, S, C, self.params(plan), float(stop_time), virt_last,
+            done, why = call(plan.module.run_steps, m, -1, S, C, self.params(plan), float(stop_time), virt_last,
                              virt_period, timing, times)
             scene.contacts = CONTACTS.from_record(C)
             self.sync_counters(plan, times)
@@ -182,10 +183,9 @@ class Runner:
         call(step_begin, scene.arrays())
         for kind, item in plan.items:
             if kind == "segment":
-                run = getattr(plan.module, f"run_segment_{item}")
                 S = scene.arrays()
                 C = CONTACTS.to_record(scene.contacts)
-                call(run, S, C, self.params(plan), timing, times)
+                call(plan.module.run_steps, 0, item, S, C, self.params(plan), np.inf, _NONE, _NONE, timing, times)
                 scene.contacts = CONTACTS.from_record(C)
                 if scene.contacts.ctr[C_STATUS]:
                     self.sync_counters(plan, times)

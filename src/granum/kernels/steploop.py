@@ -4,17 +4,22 @@ The engine list is split into *segments*: maximal runs of compiled engines,
 separated by Python engines. For each distinct list of compiled stages a module is
 generated (see :mod:`granum.kernels.codegen`) with
 
-``run_steps(nmax, S, C, PP, stop_time, virt_last, virt_period, timing, times) -> (done, why)``
-    Runs up to ``nmax`` whole steps: deform the periodic cell, all stages back to
-    back, advance the clock (:mod:`granum.kernels.cell`). It returns before a step
-    when the simulated time reached ``stop_time`` or a Python engine with a period in
-    simulated time is due (``why = WHY_DUE``), during a step whose status is an error
-    (``why = WHY_ERROR``), and after a step in which a compiled engine asked for its
-    Python hook (``why = WHY_HOOK``). Valid only while no Python engine is due, which
-    the runner guarantees for step-count and wall-clock periods.
-``run_segment_<k>(S, C, PP, timing, times)``
-    Runs the stages of segment k once (a step with Python engines is run segment
-    by segment from Python).
+``run_steps(nmax, segment, S, C, PP, stop_time, virt_last, virt_period, timing, times) -> (done, why)``
+    With ``segment < 0``: runs up to ``nmax`` whole steps: deform the periodic cell,
+    all stages back to back, advance the clock (:mod:`granum.kernels.cell`). It
+    returns before a step when the simulated time reached ``stop_time`` or a Python
+    engine with a period in simulated time is due (``why = WHY_DUE``), during a step
+    whose status is an error (``why = WHY_ERROR``), and after a step in which a
+    compiled engine asked for its Python hook (``why = WHY_HOOK``). Valid only while
+    no Python engine is due, which the runner guarantees for step-count and
+    wall-clock periods.
+    With ``segment = k >= 0``: runs the stages of segment k once (a step with Python
+    engines is run segment by segment from Python) and returns ``(0, WHY_DONE)`` or
+    ``(0, WHY_ERROR)``.
+
+One function serves both because Numba links and optimises the code of everything
+an entry point calls into that entry point: a second entry point over the same
+stages would cost the whole optimisation a second time on the first run.
 
 With ``timing`` (``O.timingEnabled``) each stage adds its run time [ns] and one run to
 its row of ``times`` (int64, (stages, 2)), in engine order.
@@ -64,18 +69,26 @@ def render(segments: list[list[str]]) -> str:
                     f"{indent}if C.ctr[C_STATUS] != 0:", f"{indent}    return {on_error}".rstrip()]
         return out
 
-    body = ["", "", "@jit", "def run_steps(nmax, S, C, PP, stop_time, virt_last, virt_period, timing, times):",
+    body = ["", "", "@jit",
+            "def run_steps(nmax, segment, S, C, PP, stop_time, virt_last, virt_period, timing, times):",
             "    PP = borrow(PP)",
             "    t0 = 0",
-            "    done = 0",
-            "    while done < nmax:",
-            "        t = S.scal[S_TIME]",
-            "        if t >= stop_time:",
-            f"            return done, {WHY_TIME}",
-            "        for j in range(virt_last.shape[0]):",
-            "            if t - virt_last[j] >= virt_period[j]:",
-            f"                return done, {WHY_DUE}",
-            "        step_begin(S)"]
+            "    if segment >= 0:"]
+    first = 0
+    for k, seg in enumerate(segments):
+        body.append(f"        {'if' if k == 0 else 'elif'} segment == {k}:")
+        body += calls(k, first, "            ", f"0, {WHY_ERROR}")
+        first += len(seg)
+    body += [f"        return 0, {WHY_DONE}",
+             "    done = 0",
+             "    while done < nmax:",
+             "        t = S.scal[S_TIME]",
+             "        if t >= stop_time:",
+             f"            return done, {WHY_TIME}",
+             "        for j in range(virt_last.shape[0]):",
+             "            if t - virt_last[j] >= virt_period[j]:",
+             f"                return done, {WHY_DUE}",
+             "        step_begin(S)"]
     first = 0
     for k, seg in enumerate(segments):
         body += calls(k, first, "        ", f"done, {WHY_ERROR}")
@@ -85,11 +98,6 @@ def render(segments: list[list[str]]) -> str:
              "        if S.iscal[I_HOOK] != 0:",
              f"            return done, {WHY_HOOK}",
              f"    return done, {WHY_DONE}"]
-    first = 0
-    for k, seg in enumerate(segments):
-        body += ["", "", "@jit", f"def run_segment_{k}(S, C, PP, timing, times):", "    PP = borrow(PP)", "    t0 = 0"]
-        body += calls(k, first, "    ", "")
-        first += len(seg)
     return "\n".join(lines + body) + "\n"
 
 
