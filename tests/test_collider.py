@@ -465,3 +465,18 @@ def test_bodies_appended_between_runs_interact(yade):
     for _ in range(80):
         check.step()
     assert len(check.touching & set(ids)) >= 20, "the new spheres must have collided"
+
+
+def test_pair_budgets_are_rounded_down_to_float32():
+    """A stored budget (float32) never exceeds the separation it was computed from, and loses
+    at most one float32 step."""
+    from granum.kernels.interaction import budget_f32
+
+    rng = np.random.default_rng(7)
+    xs = np.concatenate([rng.uniform(0, 1e-2, 500), rng.uniform(-1e-3, 1e-3, 100), 10.0 ** rng.uniform(-30, 3, 400),
+                         [0.0, 0.1, 1 / 3, np.inf, -np.inf]])
+    for x in xs:
+        g = np.float32(budget_f32(float(x)))
+        assert float(g) <= x
+        if np.isfinite(x):
+            assert x - float(g) <= float(np.spacing(np.float32(abs(x)))) * 1.0001
