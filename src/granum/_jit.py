@@ -94,6 +94,9 @@ PARALLEL_THRESHOLD = 4096
 #: Items (bodies, pairs, contacts) per iteration of block-wise parallel loops. Fixed, so that
 #: results never depend on the number of threads.
 BLOCK = 512
+#: Contact updates (geometry, physics, law: ~100 ns per contact, ten times the work per body or
+#: per pair) pay for waking the pool from two blocks on.
+PARALLEL_THRESHOLD_CONTACTS = BLOCK + 1
 
 
 def jit(fn=None, **kw):

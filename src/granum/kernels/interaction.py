@@ -22,7 +22,7 @@ import math
 
 import numpy as np
 
-from granum._jit import BLOCK, PARALLEL_THRESHOLD, jit, kernel, prange
+from granum._jit import BLOCK, PARALLEL_THRESHOLD, PARALLEL_THRESHOLD_CONTACTS, jit, kernel, prange
 from granum.core.arrays import (
     E_ELAST_POT,
     E_PLAST_DISSIP,
@@ -148,8 +148,11 @@ def detect_block(b, S, C, geom_code, geom_swap, geom_prm, pair_ok, motion, hits)
             dx = motion[i, 0] - motion[j, 0]
             dy = motion[i, 1] - motion[j, 1]
             dz = motion[i, 2] - motion[j, 2]
-            moved = math.sqrt(dx * dx + dy * dy + dz * dz) + motion[i, 3] + motion[j, 3]
-            if not moved < pair_gap[p]:
+            d2 = dx * dx + dy * dy + dz * dz
+            slack = pair_gap[p] - motion[i, 3] - motion[j, 3]
+            # m < budget, i.e. |d_a - d_b| < budget - w_a - w_b, compared squared: no square root per pair
+            if not (slack > 0.0 and d2 < slack * slack):
+                moved = math.sqrt(d2) + motion[i, 3] + motion[j, 3]
                 hit = detect_pair(p, S, C, geom_code, geom_swap, geom_prm, pair_ok, moved)
                 found += hit != 0
         pair_hit[p] = hit
@@ -536,7 +539,7 @@ def interaction_stage(S, C, P):
     V = raw(C)  # the storage may have grown
     n = V.ctr[C_CONTACTS]
     died = np.zeros((n + BLOCK - 1) // BLOCK, np.uint8)
-    if n < PARALLEL_THRESHOLD:
+    if n < PARALLEL_THRESHOLD_CONTACTS:
         update(R, V, geom_prm, phys_prm, law_prm, died)
     else:
         update_par(R, V, geom_prm, phys_prm, law_prm, died)
