@@ -95,7 +95,7 @@ def _pile(y, n=6):
 
 
 def test_the_contact_pool_stores_only_the_columns_its_laws_use(yade):
-    from granum.core.contacts import NF_CORE, NF_ENERGY, NI, NI_CORE, nf
+    from granum.core.contacts import F_E_DISSIP, NF_CORE, NI, NI_CORE, nf
 
     O = _pile(yade)
     O.engines = frict_engines(yade, gravity=(0, 0, -9.81))
@@ -106,7 +106,7 @@ def test_the_contact_pool_stores_only_the_columns_its_laws_use(yade):
     assert C.con_f.shape[1] == NF_CORE and C.con_i.shape[1] == NI_CORE
     O.trackEnergy = True
     O.run(5, True)
-    assert O._scene.contacts.con_f.shape[1] == NF_ENERGY and O.energy["elastPotential"] > 0
+    assert O._scene.contacts.con_f.shape[1] == F_E_DISSIP + 1 and O.energy["elastPotential"] > 0
     O.periodic = True
     assert O._scene.contacts.con_i.shape[1] == NI and O.interactions.all()[0].cellDist == yade.Vector3i(0, 0, 0)
 

@@ -102,7 +102,6 @@ def contact_width(groups) -> int:
 
 F_E_ELAST = register_history("energy", 2)  # elastic energy stored in the contact [J] (O.trackEnergy)
 F_E_DISSIP = F_E_ELAST + 1                  # energy dissipated by friction during this step [J]
-NF_ENERGY = F_E_DISSIP + 1                  # width of a pool whose laws keep no history, with energies
 
 FLAG_ALIVE = 1     # the row holds a live contact
 FLAG_NEW = 2       # physics constants not computed yet

@@ -197,8 +197,13 @@ class InteractionLoop(GlobalEngine):
         return (t["geom_code"], t["geom_swap"], geom_prm, t["geom_type"],
                 t["phys_code"], t["phys_swap"], param_table("phys", self.physDispatcher.functors), t["phys_type"],
                 t["law_code"], param_table("law", self.lawDispatcher.functors), t["pair_ok"],
-                contact_width({g for d in (self.physDispatcher, self.lawDispatcher) for f in d.functors
-                               for g in f.spec.history}))
+                contact_width(self.contact_groups(scene)))
+
+    def contact_groups(self, scene) -> set[str]:
+        """The ``con_f`` column groups this loop's contacts need: the history its functors declare, and
+        the energy columns while O.trackEnergy."""
+        groups = {g for d in (self.physDispatcher, self.lawDispatcher) for f in d.functors for g in f.spec.history}
+        return (groups | {"energy"}) if scene.track_energy else groups
 
 
 class NewtonIntegrator(GlobalEngine):

@@ -60,7 +60,6 @@ from granum.core.contacts import (
     I_LAW,
     I_PAIR,
     I_PHYS,
-    NF_ENERGY,
     STATUS_NO_GEOM,
     STATUS_NO_LAW,
     STATUS_NO_PHYS,
@@ -514,12 +513,13 @@ def interaction_stage(S, C, P):
 
     P = (geom_code, geom_swap, geom_prm, geom_type, phys_code, phys_swap, phys_prm,
     phys_type, law_code, law_prm, pair_ok, width); see :mod:`granum.engines.pipeline`.
-    ``width``: the ``con_f`` columns the loop's functors use (with the energy columns when
-    O.trackEnergy); a narrower pool is widened first.
+    ``width``: the ``con_f`` columns the loop's functors use, and the energy columns when
+    O.trackEnergy (:meth:`granum.engines.pipeline.InteractionLoop.params`); a narrower pool
+    is widened first.
     """
     (geom_code, geom_swap, geom_prm, geom_type, phys_code, phys_swap, phys_prm, phys_type, law_code, law_prm, pair_ok,
      width) = P
-    widen_contacts(C, max(width, NF_ENERGY) if S.iscal[I_TRACK_ENERGY] else width)
+    widen_contacts(C, width)
     nb = S.iscal[I_NBODIES]
     R = raw(S)  # hot loops read the records through raw views (see granum.core.records)
     V = raw(C)
