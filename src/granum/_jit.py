@@ -99,13 +99,39 @@ BLOCK = 512
 PARALLEL_THRESHOLD_CONTACTS = BLOCK + 1
 
 
+def _canonical(t):
+    """The type a callee is compiled for when called with an argument of type ``t``."""
+    t = numba.types.unliteral(t)
+    return numba.types.int64 if isinstance(t, numba.types.Integer) else t
+
+
+def _canonical_call_template(dispatcher):
+    """Make calls from compiled code compile ``dispatcher`` for canonical argument types.
+
+    Numba compiles a callee once per distinct tuple of argument types, and a constant argument
+    (``load3_row(a, c, F_FN)``) types as its literal value, a ``prange`` index as ``uint64``, an index
+    read from ``con_i`` as ``int32``: the same function was compiled up to five times over (118 of 295
+    compilations on a first run). Integer scalars are therefore passed as ``int64`` (Numba converts
+    them at the call: granum's integer arguments are indices, codes and flags, all far inside its
+    range) and constants as their plain type.
+    """
+    generic = dispatcher.get_call_template
+
+    def get_call_template(args, kws):
+        return generic(tuple(_canonical(a) for a in args), {k: _canonical(v) for k, v in kws.items()})
+
+    dispatcher.get_call_template = get_call_template
+    return dispatcher
+
+
 def jit(fn=None, **kw):
-    """``numba.njit`` with granum's defaults (on-disk cache, no Python fallback)."""
+    """``numba.njit`` with granum's defaults (on-disk cache, no Python fallback), compiled for
+    canonical argument types when called from compiled code (see :func:`_canonical_call_template`)."""
     opts = dict(cache=True, nogil=True)
     opts.update(kw)
     if fn is None:
-        return lambda f: njit(**opts)(f)
-    return njit(**opts)(fn)
+        return lambda f: _canonical_call_template(njit(**opts)(f))
+    return _canonical_call_template(njit(**opts)(fn))
 
 
 def kernel(fn):
