@@ -122,9 +122,9 @@ def any_body_moved(S, nb):
 
 
 @jit
-def bound_body(i, S, bound_code, bound_prm, verlet):
-    """Bound of body ``i`` enlarged by ``verlet``, and the position and orientation it was taken at."""
-    out = np.empty(6)
+def bound_body(i, S, bound_code, bound_prm, verlet, out):
+    """Bound of body ``i`` enlarged by ``verlet``, and the position and orientation it was taken at
+    (``out``: (6,) scratch for the bound functor)."""
     code = bound_code[S.shape_kind[i]] if S.alive[i] else -1
     if code < 0:
         for k in range(3):
@@ -140,9 +140,20 @@ def bound_body(i, S, bound_code, bound_prm, verlet):
         S.bound_ori[i, k] = S.ori[i, k]
 
 
+@jit
+def bounds_block(b, S, nb, bound_code, bound_prm, verlet):
+    """Bounds of the bodies of block ``b``. The parameter arrays are borrowed: the functors' rows
+    ``bound_prm[code]`` are views, and counting references to one array from several threads
+    makes them contend for its counter."""
+    bound_code, bound_prm = borrow((bound_code, bound_prm))
+    out = np.empty(6)
+    for i in range(b * BLOCK, min(nb, (b + 1) * BLOCK)):
+        bound_body(i, S, bound_code, bound_prm, verlet, out)
+
+
 def _compute_bounds(S, nb, bound_code, bound_prm, verlet):
-    for i in prange(nb):
-        bound_body(i, S, bound_code, bound_prm, verlet)
+    for b in prange((nb + BLOCK - 1) // BLOCK):
+        bounds_block(b, S, nb, bound_code, bound_prm, verlet)
 
 
 compute_bounds, compute_bounds_par = kernel(_compute_bounds)

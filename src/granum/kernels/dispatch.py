@@ -8,6 +8,12 @@ registered function. Their source is generated from the registry (see
 it callable from the kernels.
 
 ``prm`` is a 2-D float64 array: row ``code`` holds that functor's parameters.
+
+The dispatch functions and the functors are inlined into their callers at Numba's IR level
+(``inline='always'``; the functors as inlined copies of the registered functions). A call between
+compiled functions passes every array as its whole descriptor and LLVM's inliner leaves functors of
+this size alone: on the dense lattice, geometry + law through calls cost 101 ns per contact, inlined
+54 ns.
 """
 
 from __future__ import annotations
@@ -43,10 +49,11 @@ def render() -> str:
         name, args = signature.split("(")
         args = args.rstrip(")")
         call_args = args.split(", ", 1)[1].replace("prm", "prm[code]")
-        body += ["", "", "@jit", f"def {name}({args}):"]
+        body += ["", "", "@jit(inline='always')", f"def {name}({args}):"]
         for k, f in enumerate(functors(role)):
             alias = f"{role}_{k}"
-            lines.append(import_line(f.func, alias))
+            lines.append(import_line(f.func, alias + "_compiled"))
+            lines.append(f"{alias} = jit(inline='always')({alias}_compiled.py_func)")
             body.append(f"    if code == {k}:")
             body.append(f"        return {alias}({call_args})")
         body.append(f"    return {FALLBACK[role]}")

@@ -101,9 +101,8 @@ def detect_pair(p, S, C, geom_code, geom_swap, geom_prm, pair_ok, moved):
         return 0
     shift = pair_shift(S, C, p)
     if geom_swap[ka, kb]:  # the functor's body 2 is the pair's first body: opposite image
-        sep = geom_call(code, -1, b, a, scale(shift, -1.0), S, C, geom_prm)
-    else:
-        sep = geom_call(code, -1, a, b, shift, S, C, geom_prm)
+        a, b, shift = b, a, scale(shift, -1.0)
+    sep = geom_call(code, -1, a, b, shift, S, C, geom_prm)  # one call site: the functors are inlined
     if sep <= 0.0:
         return HIT_TOUCH
     C.pair_gap[p] = budget_f32(sep - moved)
@@ -138,6 +137,7 @@ def detect_block(b, S, C, geom_code, geom_swap, geom_prm, pair_ok, motion, hits)
     """
     motion, hits, pair_con, pair_ids, pair_gap, pair_hit = borrow((motion, hits, C.pair_con, C.pair_ids,
                                                                    C.pair_gap, C.pair_hit))
+    geom_code, geom_swap, geom_prm, pair_ok = borrow((geom_code, geom_swap, geom_prm, pair_ok))
     found = 0
     for p in range(b * BLOCK, min(C.ctr[C_PAIRS], (b + 1) * BLOCK)):
         hit = 0
@@ -316,14 +316,22 @@ def create_contact_now(S, C, a, b, P):
     id2 = C.con_i[c, I_ID2]
     shift, _ = contact_shift(c, S, C)
     geom_call(C.con_i[c, I_GEOM], c, id1, id2, shift, S, C, geom_prm)
-    if C.con_i[c, I_FLAGS] & FLAG_PHYS_SWAP:
-        phys_call(C.con_i[c, I_PHYS], c, id2, id1, S, C, phys_prm)
-    else:
-        phys_call(C.con_i[c, I_PHYS], c, id1, id2, S, C, phys_prm)
-    C.con_i[c, I_FLAGS] &= ~FLAG_NEW
+    contact_physics(c, id1, id2, S, C, phys_prm)
 
 
 @jit
+def contact_physics(c, id1, id2, S, C, phys_prm):
+    """IPhys of new contact ``c`` (once, in the functor's body order); clears its FLAG_NEW.
+
+    A call of its own (not inlined): it runs once per contact, and one call site keeps the
+    physics functors compiled once."""
+    if C.con_i[c, I_FLAGS] & FLAG_PHYS_SWAP:
+        id1, id2 = id2, id1
+    phys_call(C.con_i[c, I_PHYS], c, id1, id2, S, C, phys_prm)
+    C.con_i[c, I_FLAGS] &= ~FLAG_NEW
+
+
+@jit(inline="always")  # once per contact: no call (see granum.kernels.dispatch)
 def update_contact(c, S, C, geom_prm, phys_prm, law_prm, died):
     """Geometry, physics (new contacts) and law of contact ``c``; flags its block in ``died`` if it ends."""
     flags = C.con_i[c, I_FLAGS]
@@ -333,13 +341,8 @@ def update_contact(c, S, C, geom_prm, phys_prm, law_prm, died):
     id2 = C.con_i[c, I_ID2]
     shift, _ = contact_shift(c, S, C)
     geom_call(C.con_i[c, I_GEOM], c, id1, id2, shift, S, C, geom_prm)
-    flags = C.con_i[c, I_FLAGS]
-    if flags & FLAG_NEW:
-        if flags & FLAG_PHYS_SWAP:
-            phys_call(C.con_i[c, I_PHYS], c, id2, id1, S, C, phys_prm)
-        else:
-            phys_call(C.con_i[c, I_PHYS], c, id1, id2, S, C, phys_prm)
-        C.con_i[c, I_FLAGS] &= ~FLAG_NEW
+    if C.con_i[c, I_FLAGS] & FLAG_NEW:
+        contact_physics(c, id1, id2, S, C, phys_prm)
     # functors may set flags of their own (geometry, law): change only the bits owned here
     if not law_call(C.con_i[c, I_LAW], c, id1, id2, S, C, law_prm):
         C.con_i[c, I_FLAGS] &= ~FLAG_ALIVE
@@ -348,8 +351,10 @@ def update_contact(c, S, C, geom_prm, phys_prm, law_prm, died):
 
 @jit
 def update_block(b, S, C, geom_prm, phys_prm, law_prm, died):
-    """Contacts of block ``b`` (borrowing ``died``: no reference counting per contact)."""
-    died = borrow(died)
+    """Contacts of block ``b``. The arrays are borrowed: no reference counting per contact (the
+    functors' parameter rows ``prm[code]`` are views, and counting references to one array from
+    several threads made them contend for its counter: -j2 was no faster than -j1)."""
+    geom_prm, phys_prm, law_prm, died = borrow((geom_prm, phys_prm, law_prm, died))
     for c in range(b * BLOCK, min(C.ctr[C_CONTACTS], (b + 1) * BLOCK)):
         update_contact(c, S, C, geom_prm, phys_prm, law_prm, died)
 

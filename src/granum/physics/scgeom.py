@@ -79,7 +79,7 @@ def scgeom_rotate_shear(c, id1, id2, S, C, fs):
     return sub(fs, cross(fs, twist))
 
 
-@jit
+@jit(inline="always")  # called per contact by the laws and the force gather: no call
 def contact_shift(c, S, C):
     """Offset of body 2's periodic image and its velocity, ``(shift [m], shift_vel [m/s])``.
 
