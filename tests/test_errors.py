@@ -203,3 +203,20 @@ def test_error_in_pyrunner_stops_the_run_and_reaches_the_caller(yade):
     with pytest.raises(ZeroDivisionError):
         yade.O.wait()
     assert not yade.O.running
+
+
+def test_functor_registered_late_or_outside_granum_is_refused():
+    """A functor the compiled dispatch would never call (registered after the kernels were generated) or
+    whose code the kernel cache does not track (outside granum.physics) is refused with a message."""
+    import granum.kernels.dispatch  # noqa: F401  (generates the dispatch)
+    from granum.physics import registry
+    from granum.physics.registry import Functor
+
+    late = Functor("Law2_Test_Late", "law", ("ScGeom", "FrictPhys"), None,
+                   "granum.physics.frict:law_cundall_strack", (), "")
+    with pytest.raises(RuntimeError, match="after the kernels were compiled"):
+        registry.register_functor(late)
+    outside = Functor("Law2_Test_Outside", "law", ("ScGeom", "FrictPhys"), None, "mylaws:law_mine", (), "")
+    with pytest.raises(ValueError, match="must be in a module of granum.physics"):
+        registry.register_functor(outside)
+    assert "Law2_Test_Late" not in registry.FUNCTORS and "Law2_Test_Outside" not in registry.FUNCTORS

@@ -61,6 +61,7 @@ def render() -> str:
 
 
 _generated = load_module("dispatch", render())
+registry._SEALED.append(True)
 bound_call = _generated.bound_call
 geom_call = _generated.geom_call
 phys_call = _generated.phys_call

@@ -144,10 +144,25 @@ def register_material(kind: MaterialKind) -> None:
     MATERIALS[kind.name] = kind
 
 
+#: Set when the dispatch is generated (granum.kernels.dispatch): the functors are compiled into it then.
+_SEALED = []
+
+
 def register_functor(f: Functor) -> None:
-    """Declare a functor (see the module docstring for the compiled calling conventions)."""
+    """Declare a functor (see the module docstring for the compiled calling conventions).
+
+    Functors live in granum's own physics modules: the compiled dispatch is generated from the
+    registry once, when the kernels are imported, and the kernel cache is keyed by granum's sources
+    only, so a functor registered later, or compiled from elsewhere, could silently never be called
+    or run stale cached code."""
     if f.yade_name in FUNCTORS:
         raise ValueError(f"functor {f.yade_name} is registered twice")
+    if not f.func.startswith("granum.physics."):
+        raise ValueError(f"functor {f.yade_name}: its function {f.func!r} must be in a module of granum.physics "
+                         f"(see ARCHITECTURE.md, 'How to add a contact law')")
+    if _SEALED:
+        raise RuntimeError(f"functor {f.yade_name} is registered after the kernels were compiled; register it in a "
+                           f"granum.physics module imported by granum/physics/__init__.py")
     FUNCTORS[f.yade_name] = f
 
 
