@@ -110,10 +110,11 @@ def _canonical_call_template(dispatcher):
 
     Numba compiles a callee once per distinct tuple of argument types, and a constant argument
     (``load3_row(a, c, F_FN)``) types as its literal value, a ``prange`` index as ``uint64``, an index
-    read from ``con_i`` as ``int32``: the same function was compiled up to five times over (118 of 295
-    compilations on a first run). Integer scalars are therefore passed as ``int64`` (Numba converts
+    read from ``con_i`` as ``int32``: the same function was compiled up to five times over (a first run
+    made 295 compilations, 250 since). Integer scalars are therefore passed as ``int64`` (Numba converts
     them at the call: granum's integer arguments are indices, codes and flags, all far inside its
-    range) and constants as their plain type.
+    range) and constants as their plain type. Integers inside tuples and optional integers keep
+    their types (no kernel passes them between compiled functions with varying widths).
     """
     generic = dispatcher.get_call_template
 

@@ -142,9 +142,8 @@ def bound_body(i, S, bound_code, bound_prm, verlet, out):
 
 @jit
 def bounds_block(b, S, nb, bound_code, bound_prm, verlet):
-    """Bounds of the bodies of block ``b``. The parameter arrays are borrowed: the functors' rows
-    ``bound_prm[code]`` are views, and counting references to one array from several threads
-    makes them contend for its counter."""
+    """Bounds of the bodies of block ``b``; the parameter arrays are borrowed (no reference counting
+    per body: see ARCHITECTURE.md, "Kernel records")."""
     bound_code, bound_prm = borrow((bound_code, bound_prm))
     out = np.empty(6)
     for i in range(b * BLOCK, min(nb, (b + 1) * BLOCK)):

@@ -351,9 +351,8 @@ def update_contact(c, S, C, geom_prm, phys_prm, law_prm, died):
 
 @jit
 def update_block(b, S, C, geom_prm, phys_prm, law_prm, died):
-    """Contacts of block ``b``. The arrays are borrowed: no reference counting per contact (the
-    functors' parameter rows ``prm[code]`` are views, and counting references to one array from
-    several threads made them contend for its counter: -j2 was no faster than -j1)."""
+    """Contacts of block ``b``; the arrays are borrowed (no reference counting per contact: see
+    ARCHITECTURE.md, "Kernel records")."""
     geom_prm, phys_prm, law_prm, died = borrow((geom_prm, phys_prm, law_prm, died))
     for c in range(b * BLOCK, min(C.ctr[C_CONTACTS], (b + 1) * BLOCK)):
         update_contact(c, S, C, geom_prm, phys_prm, law_prm, died)

@@ -4,7 +4,8 @@ A contact model in granum is a set of pure compiled functions plus a record sayi
 which types they handle. Registering them here is all it takes to make them usable:
 the YADE classes (``Ig2_*``, ``Ip2_*``, ``Law2_*``, materials) are generated from
 these records in :mod:`granum.yade`, and the compiled dispatch is generated from
-them in :mod:`granum.kernels.dispatch`.
+them in :mod:`granum.kernels.dispatch`. Functors are registered by the modules of
+:mod:`granum.physics` (imported by its ``__init__``), before the kernels are imported.
 
 Type hierarchies (materials, geometry and physics types) follow YADE's class
 hierarchy, because YADE resolves a functor by the smallest distance in that
@@ -144,8 +145,13 @@ def register_material(kind: MaterialKind) -> None:
     MATERIALS[kind.name] = kind
 
 
-#: Set when the dispatch is generated (granum.kernels.dispatch): the functors are compiled into it then.
-_SEALED = []
+_sealed = False
+
+
+def seal() -> None:
+    """Refuse further functors: the dispatch has been generated from these (granum.kernels.dispatch)."""
+    global _sealed
+    _sealed = True
 
 
 def register_functor(f: Functor) -> None:
@@ -160,7 +166,7 @@ def register_functor(f: Functor) -> None:
     if not f.func.startswith("granum.physics."):
         raise ValueError(f"functor {f.yade_name}: its function {f.func!r} must be in a module of granum.physics "
                          f"(see ARCHITECTURE.md, 'How to add a contact law')")
-    if _SEALED:
+    if _sealed:
         raise RuntimeError(f"functor {f.yade_name} is registered after the kernels were compiled; register it in a "
                            f"granum.physics module imported by granum/physics/__init__.py")
     FUNCTORS[f.yade_name] = f
