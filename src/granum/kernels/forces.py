@@ -1,12 +1,12 @@
 """Stages that set forces or impose motion: ForceResetter, GravityEngine, ForceEngine,
 TranslationEngine and RotationEngine.
 
-Each writes only the rows of its own bodies, in parallel over bodies.
+Each writes only the rows of its own bodies, in parallel over blocks of bodies.
 """
 
 from __future__ import annotations
 
-from granum._jit import PARALLEL_THRESHOLD, jit, kernel, prange
+from granum._jit import BLOCK, PARALLEL_THRESHOLD, jit, kernel, prange
 from granum.core.arrays import E_GRAV_WORK, I_NBODIES, I_TRACK_ENERGY, S_DT
 from granum.core.records import raw
 from granum.physics.vec import cross, load3, sub
@@ -21,11 +21,18 @@ def reset_body(i, S, perm_f, perm_t):
         S.torque[i, k] = S.perm_torque[i, k] if perm_t else 0.0
 
 
-def _reset(S, nb):
+@jit
+def reset_block(b, S, nb):
+    """Bodies of block ``b``."""
     perm_f = S.perm_force.shape[0] > 0
     perm_t = S.perm_torque.shape[0] > 0
-    for i in prange(nb):
+    for i in range(b * BLOCK, min(nb, (b + 1) * BLOCK)):
         reset_body(i, S, perm_f, perm_t)
+
+
+def _reset(S, nb):
+    for b in prange((nb + BLOCK - 1) // BLOCK):
+        reset_block(b, S, nb)
 
 
 reset, reset_par = kernel(_reset)
