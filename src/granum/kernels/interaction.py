@@ -312,11 +312,18 @@ def create_contact_now(S, C, a, b, P):
     c = new_contact(S, C, lo, hi, p, geom_code, geom_swap, geom_type, phys_code, phys_swap, phys_type, law_code)
     if c < 0:
         return
+    id1, id2 = contact_geometry(c, S, C, geom_prm)
+    contact_physics(c, id1, id2, S, C, phys_prm)
+
+
+@jit(inline="always")  # once per contact: no call (see granum.kernels.dispatch)
+def contact_geometry(c, S, C, geom_prm):
+    """Current geometry of contact ``c``; returns its bodies ``(id1, id2)``."""
     id1 = C.con_i[c, I_ID1]
     id2 = C.con_i[c, I_ID2]
     shift, _ = contact_shift(c, S, C)
     geom_call(C.con_i[c, I_GEOM], c, id1, id2, shift, S, C, geom_prm)
-    contact_physics(c, id1, id2, S, C, phys_prm)
+    return id1, id2
 
 
 @jit
@@ -337,10 +344,7 @@ def update_contact(c, S, C, geom_prm, phys_prm, law_prm, died):
     flags = C.con_i[c, I_FLAGS]
     if not flags & FLAG_ALIVE:
         return
-    id1 = C.con_i[c, I_ID1]
-    id2 = C.con_i[c, I_ID2]
-    shift, _ = contact_shift(c, S, C)
-    geom_call(C.con_i[c, I_GEOM], c, id1, id2, shift, S, C, geom_prm)
+    id1, id2 = contact_geometry(c, S, C, geom_prm)
     if C.con_i[c, I_FLAGS] & FLAG_NEW:
         contact_physics(c, id1, id2, S, C, phys_prm)
     # functors may set flags of their own (geometry, law): change only the bits owned here
