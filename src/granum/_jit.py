@@ -24,7 +24,7 @@ _PKG = pathlib.Path(__file__).resolve().parent
 
 #: Packages whose code can end up inside compiled kernels (the YADE layer, the engines
 #: and the launcher never do, so editing them keeps the cache).
-KERNEL_SOURCES = ("_jit.py", "core", "kernels", "physics", "idem")
+KERNEL_SOURCES = ("_jit.py", "_linking.py", "core", "kernels", "physics", "idem")
 
 
 def source_hash() -> str:
@@ -79,6 +79,8 @@ _configure_numba()
 import numba  # noqa: E402
 from numba import njit, prange  # noqa: E402  (after the cache directory is configured)
 
+from granum import _compile, _linking  # noqa: E402
+
 # Threading layer: OpenMP first. A step launches several short parallel loops, and TBB's launch
 # overhead made the falling-ball benchmark 2.5x slower with two threads than with one (OpenMP:
 # 1.6x faster). NUMBA_THREADING_LAYER, if the user sets it, still decides.
@@ -99,40 +101,14 @@ BLOCK = 512
 PARALLEL_THRESHOLD_CONTACTS = BLOCK + 1
 
 
-def _canonical(t):
-    """The type a callee is compiled for when called with an argument of type ``t``."""
-    t = numba.types.unliteral(t)
-    return numba.types.int64 if isinstance(t, numba.types.Integer) else t
-
-
-def _canonical_call_template(dispatcher):
-    """Make calls from compiled code compile ``dispatcher`` for canonical argument types.
-
-    Numba compiles a callee once per distinct tuple of argument types, and a constant argument
-    (``load3_row(a, c, F_FN)``) types as its literal value, a ``prange`` index as ``uint64``, an index
-    read from ``con_i`` as ``int32``: the same function was compiled up to five times over (a first run
-    made 295 compilations, 250 since). Integer scalars are therefore passed as ``int64`` (Numba converts
-    them at the call: granum's integer arguments are indices, codes and flags, all far inside its
-    range) and constants as their plain type. Integers inside tuples and optional integers keep
-    their types (no kernel passes them between compiled functions with varying widths).
-    """
-    generic = dispatcher.get_call_template
-
-    def get_call_template(args, kws):
-        return generic(tuple(_canonical(a) for a in args), {k: _canonical(v) for k, v in kws.items()})
-
-    dispatcher.get_call_template = get_call_template
-    return dispatcher
-
-
 def jit(fn=None, **kw):
-    """``numba.njit`` with granum's defaults (on-disk cache, no Python fallback), compiled for
-    canonical argument types when called from compiled code (see :func:`_canonical_call_template`)."""
+    """``numba.njit`` with granum's defaults (on-disk cache, no Python fallback); called from compiled
+    code, the function is compiled for canonical argument types and link-only (:mod:`granum._linking`)."""
     opts = dict(cache=True, nogil=True)
     opts.update(kw)
     if fn is None:
-        return lambda f: _canonical_call_template(njit(**opts)(f))
-    return _canonical_call_template(njit(**opts)(fn))
+        return lambda f: _linking.install(njit(**opts)(f))
+    return _linking.install(njit(**opts)(fn))
 
 
 def kernel(fn):
@@ -171,13 +147,22 @@ def compile_lock():
 _warm: set[int] = set()
 
 
-def call(fn, *args):
+def call(fn, *args, parts=None):
     """Call compiled ``fn`` from Python, compiling it (or loading it from the cache) under
     :func:`compile_lock` the first time. Only the compilation holds the lock: a long first call
-    must not keep other processes (the jobs of a batch) from running their own kernels."""
+    must not keep other processes (the jobs of a batch) from running their own kernels.
+
+    ``parts``: compiled functions that ``fn`` calls, as ``(dispatcher, [argument values, ...])``.
+    When ``fn`` must be compiled, they are compiled first as entry points of their own, on two
+    processes (:mod:`granum._compile`).
+    """
     if id(fn) not in _warm:
+        sig = tuple(fn.typeof_pyval(a) for a in args)
         with compile_lock():
-            fn.compile(tuple(fn.typeof_pyval(a) for a in args))
+            if parts is not None and not _linking.load_cached(fn, sig):
+                _compile.compile_parts([(d, [tuple(d.typeof_pyval(a) for a in values) for values in calls])
+                                        for d, calls in parts])
+            fn.compile(sig)
         _warm.add(id(fn))
     return fn(*args)
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from granum.core.attrs import Attr, Attributed, to_str
-from granum.kernels.dispatch import code_of, functors
+from granum.kernels.dispatch import code_of, functor_set, functors
 from granum.physics import registry
 
 
@@ -74,15 +74,16 @@ def make_class(spec: registry.Functor) -> type:
 CLASSES = {name: make_class(spec) for name, spec in registry.FUNCTORS.items()}
 
 
-def param_table(role: str, instances) -> np.ndarray:
-    """Parameters of the functors of ``role``: row = functor code, from the given instances."""
+def functor_table(role: str, instances) -> tuple:
+    """The functor table of ``role`` that kernels dispatch through (:mod:`granum.kernels.dispatch`):
+    the set of the given instances' codes, and their parameters (row = functor code)."""
     specs = functors(role)
     width = max([len(s.params) for s in specs] + [1])
-    table = np.zeros((len(specs), width))
+    prm = np.zeros((len(specs), width))
     for f in instances:
         values = f.numeric_params()
-        table[f.code, : len(values)] = values
-    return table
+        prm[f.code, : len(values)] = values
+    return functor_set(role, [f.code for f in instances]), prm
 
 
 def check_role(f, role: str, where: str) -> None:

@@ -14,8 +14,9 @@ from granum.core.attrs import Attr, to_bool, to_float, to_int
 from granum.core.bodies import ShapeKind
 from granum.core.contacts import contact_width
 from granum.engines.base import GlobalEngine
-from granum.engines.functors import check_role, param_table
+from granum.engines.functors import check_role, functor_table
 from granum.kernels.dispatch import code_of, functors
+from granum.kernels.static import Static
 from granum.mathtypes import Matrix3, Vector3, as_vec3
 from granum.physics import registry
 
@@ -114,8 +115,8 @@ class InsertionSortCollider(GlobalEngine):
         bound_code = np.full(NKINDS, -1, np.int32)
         for f in self.boundDispatcher.functors:
             bound_code[f.spec.types[0]] = f.code
-        return (bound_code, param_table("bound", self.boundDispatcher.functors), float(self.verletDist),
-                int(self.avoidSelfInteractionMask))
+        return (bound_code, functor_table("bound", self.boundDispatcher.functors), float(self.verletDist),
+                int(self.avoidSelfInteractionMask), Static(("cell", bool(scene.periodic))))
 
 
 class InteractionLoop(GlobalEngine):
@@ -191,12 +192,12 @@ class InteractionLoop(GlobalEngine):
 
     def params(self, scene, engines) -> tuple:
         t = self.tables(scene)
-        geom_prm = param_table("geom", self.geomDispatcher.functors)
+        geom_tab = functor_table("geom", self.geomDispatcher.functors)
         # pairs skip detection on budgets computed with these functors (see interaction.detect_pair)
-        scene.detection_uses(t["geom_code"].tobytes() + t["geom_swap"].tobytes() + geom_prm.tobytes())
-        return (t["geom_code"], t["geom_swap"], geom_prm, t["geom_type"],
-                t["phys_code"], t["phys_swap"], param_table("phys", self.physDispatcher.functors), t["phys_type"],
-                t["law_code"], param_table("law", self.lawDispatcher.functors), t["pair_ok"],
+        scene.detection_uses(t["geom_code"].tobytes() + t["geom_swap"].tobytes() + geom_tab[1].tobytes())
+        return (t["geom_code"], t["geom_swap"], geom_tab, t["geom_type"],
+                t["phys_code"], t["phys_swap"], functor_table("phys", self.physDispatcher.functors), t["phys_type"],
+                t["law_code"], functor_table("law", self.lawDispatcher.functors), t["pair_ok"],
                 contact_width(self.contact_groups(scene)))
 
     def contact_groups(self, scene) -> set[str]:

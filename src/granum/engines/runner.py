@@ -14,6 +14,7 @@ wall-clock time (checked at chunk boundaries, hence with the chunk's latency).
 
 from __future__ import annotations
 
+import importlib
 import time
 
 import numpy as np
@@ -70,6 +71,14 @@ class Plan:
         self.python = [e for e in self.live if e.stage is None]
         self.module = steploop.load([[e.stage for e in seg] for seg in segments])
         self.key = plan_key(engines)
+
+    def parts(self, S, C, PP) -> list:
+        """The compiled functions the step loop calls, with their arguments (see :func:`granum._jit.call`)."""
+        calls: dict = {step_begin: [(S,)], step_end: [(S,)]}
+        for e, P in zip(self.compiled, PP, strict=True):
+            module, name = e.stage.split(":")
+            calls.setdefault(getattr(importlib.import_module(module), name), []).append((S, C, P))
+        return list(calls.items())
 
 
 def plan_key(engines) -> tuple:
@@ -145,8 +154,9 @@ class Runner:
             C = CONTACTS.to_record(scene.contacts)
             timing, times = self.timing(plan)
             t0 = time.perf_counter()
-            done, why = call(plan.module.run_steps, m, -1, S, C, self.params(plan), float(stop_time), virt_last,
-                             virt_period, timing, times)
+            PP = self.params(plan)
+            done, why = call(plan.module.run_steps, m, -1, S, C, PP, float(stop_time), virt_last, virt_period, timing,
+                             times, parts=plan.parts(S, C, PP))
             scene.contacts = CONTACTS.from_record(C)
             self.sync_counters(plan, times)
             if done:
@@ -185,7 +195,9 @@ class Runner:
             if kind == "segment":
                 S = scene.arrays()
                 C = CONTACTS.to_record(scene.contacts)
-                call(plan.module.run_steps, 0, item, S, C, self.params(plan), np.inf, _NONE, _NONE, timing, times)
+                PP = self.params(plan)
+                call(plan.module.run_steps, 0, item, S, C, PP, np.inf, _NONE, _NONE, timing, times,
+                     parts=plan.parts(S, C, PP))
                 scene.contacts = CONTACTS.from_record(C)
                 if scene.contacts.ctr[C_STATUS]:
                     self.sync_counters(plan, times)

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from granum._jit import jit
 from granum.core.arrays import I_ITER, I_PERIODIC, S_DT, S_TIME
+from granum.kernels.copy import copy_rows
 
 
 @jit
@@ -24,7 +25,7 @@ def deform(m, lg, dt):
             for k in range(3):
                 acc += dt * lg[i, k] * m[k, j]
             out[i, j] = acc
-    m[:, :] = out
+    copy_rows(m, out, 3)
 
 
 @jit
@@ -39,6 +40,6 @@ def step_begin(S):
 @jit
 def step_end(S):
     """Record the velocity gradient and advance the clock."""
-    S.cell_prev_velgrad[:, :] = S.cell_velgrad
+    copy_rows(S.cell_prev_velgrad, S.cell_velgrad, 3)
     S.scal[S_TIME] += S.scal[S_DT]
     S.iscal[I_ITER] += 1

@@ -24,6 +24,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numba.extending import overload
 
 from granum._jit import BLOCK, PARALLEL_THRESHOLD, jit, kernel, prange
 from granum.core.arrays import I_NBODIES, I_PERIODIC, S_VERLET
@@ -45,8 +46,11 @@ from granum.core.contacts import (
 )
 from granum.core.records import borrow, raw
 from granum.kernels.collider_periodic import find_pairs_periodic
+from granum.kernels.copy import copy_rows
 from granum.kernels.dispatch import bound_call
 from granum.kernels.pairing import may_collide
+from granum.kernels.sorting import argsort_keys, median
+from granum.kernels.static import static_value
 from granum.physics.vec import load3, load4, quat_angle, quat_mul, sub
 
 
@@ -122,7 +126,7 @@ def any_body_moved(S, nb):
 
 
 @jit
-def bound_body(i, S, bound_code, bound_prm, verlet, out):
+def bound_body(i, S, bound_code, bound_tab, verlet, out):
     """Bound of body ``i`` enlarged by ``verlet``, and the position and orientation it was taken at
     (``out``: (6,) scratch for the bound functor)."""
     code = bound_code[S.shape_kind[i]] if S.alive[i] else -1
@@ -131,7 +135,7 @@ def bound_body(i, S, bound_code, bound_prm, verlet, out):
             S.bound_min[i, k] = math.inf   # no bound: never collides
             S.bound_max[i, k] = -math.inf
         return
-    bound_call(code, i, S, bound_prm, out)
+    bound_call(code, i, S, bound_tab, out)
     for k in range(3):
         S.bound_min[i, k] = out[k] - verlet
         S.bound_max[i, k] = out[3 + k] + verlet
@@ -141,18 +145,18 @@ def bound_body(i, S, bound_code, bound_prm, verlet, out):
 
 
 @jit
-def bounds_block(b, S, nb, bound_code, bound_prm, verlet):
+def bounds_block(b, S, nb, bound_code, bound_tab, verlet):
     """Bounds of the bodies of block ``b``; the parameter arrays are borrowed (no reference counting
     per body: see ARCHITECTURE.md, "Kernel records")."""
-    bound_code, bound_prm = borrow((bound_code, bound_prm))
+    bound_code, bound_tab = borrow((bound_code, bound_tab))
     out = np.empty(6)
     for i in range(b * BLOCK, min(nb, (b + 1) * BLOCK)):
-        bound_body(i, S, bound_code, bound_prm, verlet, out)
+        bound_body(i, S, bound_code, bound_tab, verlet, out)
 
 
-def _compute_bounds(S, nb, bound_code, bound_prm, verlet):
+def _compute_bounds(S, nb, bound_code, bound_tab, verlet):
     for b in prange((nb + BLOCK - 1) // BLOCK):
-        bounds_block(b, S, nb, bound_code, bound_prm, verlet)
+        bounds_block(b, S, nb, bound_code, bound_tab, verlet)
 
 
 compute_bounds, compute_bounds_par = kernel(_compute_bounds)
@@ -268,7 +272,7 @@ def find_pairs(S, nb, avoid_self):
     finite = width[bounded & np.isfinite(width)]
     h = 0.0
     if finite.shape[0] > 0:
-        ref = np.median(finite)
+        ref = median(finite)
         for w in finite:
             if w <= 4.0 * ref:
                 h = max(h, w)
@@ -300,7 +304,7 @@ def find_pairs(S, nb, avoid_self):
     for t in range(idx.shape[0]):
         i = idx[t]
         keys[t] = (cell[i, 0] * dims[1] + cell[i, 1]) * dims[2] + cell[i, 2]
-    perm = np.argsort(keys, kind="mergesort")
+    perm = argsort_keys(keys)
     order = idx[perm].astype(np.int32)
     keys_sorted = keys[perm]
     ncells = dims[0] * dims[1] * dims[2]
@@ -395,10 +399,32 @@ def cell_moved(S, verlet):
     return math.sqrt(3.0 * change) > 0.5 * verlet
 
 
+def cell_pairs(cell, S, nb, avoid_self):
+    """``(pairs, start, cells, too_large)`` of the broad phase for the kind of cell ``cell``, a static
+    ``("cell", periodic)`` (:mod:`granum.kernels.static`): aperiodic scenes compile no periodic broad phase."""
+    raise TypeError("cell_pairs is called from compiled kernels only")
+
+
+@overload(cell_pairs)
+def _cell_pairs(cell, S, nb, avoid_self):
+    value = static_value(cell, "cell")
+    if value is None:
+        return None
+    if value[1]:
+        return lambda cell, S, nb, avoid_self: find_pairs_periodic(S, nb, avoid_self)
+
+    def aperiodic(cell, S, nb, avoid_self):
+        pairs, start = find_pairs(S, nb, avoid_self)
+        return pairs, start, np.zeros((0, 3), np.int32), -1  # no images: pair_cell is read in periodic cells only
+
+    return aperiodic
+
+
 @jit
 def collider_stage(S, C, P):
-    """Engine stage of InsertionSortCollider; P = (bound_code, bound_prm, verlet_dist, avoid_self_mask)."""
-    bound_code, bound_prm, verlet_dist, avoid_self = P
+    """Engine stage of InsertionSortCollider; P = (bound_code, bound_tab, verlet_dist, avoid_self_mask, cell),
+    ``cell`` the static ``("cell", periodic)`` of the scene (see :func:`cell_pairs`)."""
+    bound_code, bound_tab, verlet_dist, avoid_self, cell = P
     nb = S.iscal[I_NBODIES]
     periodic = S.iscal[I_PERIODIC] != 0
     R = raw(S)  # loops over bodies read the scene through a raw view (see granum.core.records)
@@ -420,21 +446,18 @@ def collider_stage(S, C, P):
     C.pair_gap = np.zeros(0, np.float32)
     C.pair_hit = np.zeros(0, np.uint8)
     if nb < PARALLEL_THRESHOLD:
-        compute_bounds(R, nb, bound_code, bound_prm, verlet)
+        compute_bounds(R, nb, bound_code, bound_tab, verlet)
     else:
-        compute_bounds_par(R, nb, bound_code, bound_prm, verlet)
+        compute_bounds_par(R, nb, bound_code, bound_tab, verlet)
     if periodic:
         # bodies and the cell share the Verlet budget: each may use half of it
         S.scal[S_VERLET] = 0.5 * verlet
-        S.cell_bound_hsize[:, :] = S.cell_hsize
-        pairs, start, cells, too_large = find_pairs_periodic(R, nb, avoid_self)
-        if too_large >= 0:
-            C.ctr[C_STATUS] = STATUS_TOO_LARGE
-            C.ctr[C_ERR_A] = too_large
-            return
-    else:
-        pairs, start = find_pairs(R, nb, avoid_self)
-        cells = np.zeros((0, 3), np.int32)  # aperiodic: no images (pair_cell is read in periodic cells only)
+        copy_rows(S.cell_bound_hsize, S.cell_hsize, 3)
+    pairs, start, cells, too_large = cell_pairs(cell, R, nb, avoid_self)
+    if too_large >= 0:
+        C.ctr[C_STATUS] = STATUS_TOO_LARGE
+        C.ctr[C_ERR_A] = too_large
+        return
     n = pairs.shape[0]
     pair_con = np.full(n, -1, np.int32)
     if C.ctr[C_CONTACTS] < PARALLEL_THRESHOLD:

@@ -25,6 +25,7 @@ import numpy as np
 from granum._jit import BLOCK, PARALLEL_THRESHOLD, jit, kernel, prange
 from granum.core.records import borrow
 from granum.kernels.pairing import may_collide
+from granum.kernels.sorting import argsort_keys
 
 
 @jit
@@ -164,7 +165,7 @@ def find_pairs_periodic(S, nb, avoid_self):
             for a in range(3):
                 cell[i, a] = min(int(s[i, a] * dims[a]), dims[a] - 1)
             keys[i] = (cell[i, 0] * dims[1] + cell[i, 1]) * dims[2] + cell[i, 2]
-    order = np.argsort(keys, kind="mergesort").astype(np.int32)
+    order = argsort_keys(keys).astype(np.int32)
     start_cell = np.zeros(ncells + 2, np.int64)
     for i in range(nb):
         start_cell[keys[i] + 1] += 1

@@ -66,6 +66,7 @@ from granum.core.contacts import (
 )
 from granum.core.records import borrow, raw
 from granum.kernels.collider import body_displacement
+from granum.kernels.copy import copy_row, copy_rows
 from granum.kernels.dispatch import geom_call, law_call, phys_call
 from granum.physics.scgeom import contact_shift
 from granum.physics.vec import add, cross, load3, matvec, scale, sub
@@ -85,7 +86,7 @@ def pair_shift(S, C, p):
 
 
 @jit
-def detect_pair(p, S, C, geom_code, geom_swap, geom_prm, pair_ok, moved):
+def detect_pair(p, S, C, geom_code, geom_swap, geom_tab, pair_ok, moved):
     """Evaluate potential pair ``p`` (no contact, budget used up; its bodies moved ``moved`` relative to
     each other):
     the ``HIT_*`` outcome, and the pair's new budget when it does not touch (see :func:`detect_block`)."""
@@ -102,7 +103,7 @@ def detect_pair(p, S, C, geom_code, geom_swap, geom_prm, pair_ok, moved):
     shift = pair_shift(S, C, p)
     if geom_swap[ka, kb]:  # the functor's body 2 is the pair's first body: opposite image
         a, b, shift = b, a, scale(shift, -1.0)
-    sep = geom_call(code, -1, a, b, shift, S, C, geom_prm)  # one call site: the functors are inlined
+    sep = geom_call(code, -1, a, b, shift, S, C, geom_tab)  # one call site: the functors are inlined
     if sep <= 0.0:
         return HIT_TOUCH
     C.pair_gap[p] = budget_f32(sep - moved)
@@ -120,7 +121,7 @@ def budget_f32(x):
 
 
 @jit
-def detect_block(b, S, C, geom_code, geom_swap, geom_prm, pair_ok, motion, hits):
+def detect_block(b, S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, hits):
     """Which pairs of block ``b`` without a contact touch now: ``pair_hit``.
 
     The geometry of a pair is evaluated only when the relative motion of its two bodies since
@@ -137,7 +138,7 @@ def detect_block(b, S, C, geom_code, geom_swap, geom_prm, pair_ok, motion, hits)
     """
     motion, hits, pair_con, pair_ids, pair_gap, pair_hit = borrow((motion, hits, C.pair_con, C.pair_ids,
                                                                    C.pair_gap, C.pair_hit))
-    geom_code, geom_swap, geom_prm, pair_ok = borrow((geom_code, geom_swap, geom_prm, pair_ok))
+    geom_code, geom_swap, geom_tab, pair_ok = borrow((geom_code, geom_swap, geom_tab, pair_ok))
     found = 0
     for p in range(b * BLOCK, min(C.ctr[C_PAIRS], (b + 1) * BLOCK)):
         hit = 0
@@ -152,15 +153,15 @@ def detect_block(b, S, C, geom_code, geom_swap, geom_prm, pair_ok, motion, hits)
             # m < budget, i.e. |d_a - d_b| < budget - w_a - w_b, compared squared: no square root per pair
             if not (slack > 0.0 and d2 < slack * slack):
                 moved = math.sqrt(d2) + motion[i, 3] + motion[j, 3]
-                hit = detect_pair(p, S, C, geom_code, geom_swap, geom_prm, pair_ok, moved)
+                hit = detect_pair(p, S, C, geom_code, geom_swap, geom_tab, pair_ok, moved)
                 found += hit != 0
         pair_hit[p] = hit
     hits[b] = found
 
 
-def _detect(S, C, geom_code, geom_swap, geom_prm, pair_ok, motion, hits):
+def _detect(S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, hits):
     for b in prange(hits.shape[0]):
-        detect_block(b, S, C, geom_code, geom_swap, geom_prm, pair_ok, motion, hits)
+        detect_block(b, S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, hits)
 
 
 detect, detect_par = kernel(_detect)
@@ -196,8 +197,8 @@ def grow_contacts(C, need):
     con_i = np.zeros((cap, C.con_i.shape[1]), np.int32)
     con_f = np.zeros((cap, C.con_f.shape[1]), np.float64)
     n = C.ctr[C_CONTACTS]
-    con_i[:n] = C.con_i[:n]
-    con_f[:n] = C.con_f[:n]
+    copy_rows(con_i, C.con_i, n)
+    copy_rows(con_f, C.con_f, n)
     C.con_i = con_i
     C.con_f = con_f
     C.csr_con = np.zeros(2 * cap, np.int32)
@@ -208,7 +209,7 @@ def widen_contacts(C, width):
     """Give ``con_f`` at least ``width`` columns (new ones zero: history starts empty)."""
     if C.con_f.shape[1] < width:
         con_f = np.zeros((C.con_f.shape[0], width), np.float64)
-        con_f[:, :C.con_f.shape[1]] = C.con_f
+        copy_rows(con_f, C.con_f, C.con_f.shape[0])
         C.con_f = con_f
 
 
@@ -298,7 +299,7 @@ def create_contact_now(S, C, a, b, P):
 
     The geometry and physics are computed immediately; the law acts from the next step.
     """
-    (geom_code, geom_swap, geom_prm, geom_type, phys_code, phys_swap, phys_prm, phys_type, law_code, law_prm, pair_ok,
+    (geom_code, geom_swap, geom_tab, geom_type, phys_code, phys_swap, phys_tab, phys_type, law_code, law_tab, pair_ok,
      width) = P
     widen_contacts(C, width)
     lo = min(a, b)
@@ -312,59 +313,59 @@ def create_contact_now(S, C, a, b, P):
     c = new_contact(S, C, lo, hi, p, geom_code, geom_swap, geom_type, phys_code, phys_swap, phys_type, law_code)
     if c < 0:
         return
-    id1, id2 = contact_geometry(c, S, C, geom_prm)
-    contact_physics(c, id1, id2, S, C, phys_prm)
+    id1, id2 = contact_geometry(c, S, C, geom_tab)
+    contact_physics(c, id1, id2, S, C, phys_tab)
 
 
 @jit(inline="always")  # once per contact: no call (see granum.kernels.dispatch)
-def contact_geometry(c, S, C, geom_prm):
+def contact_geometry(c, S, C, geom_tab):
     """Current geometry of contact ``c``; returns its bodies ``(id1, id2)``."""
     id1 = C.con_i[c, I_ID1]
     id2 = C.con_i[c, I_ID2]
     shift, _ = contact_shift(c, S, C)
-    geom_call(C.con_i[c, I_GEOM], c, id1, id2, shift, S, C, geom_prm)
+    geom_call(C.con_i[c, I_GEOM], c, id1, id2, shift, S, C, geom_tab)
     return id1, id2
 
 
 @jit
-def contact_physics(c, id1, id2, S, C, phys_prm):
+def contact_physics(c, id1, id2, S, C, phys_tab):
     """IPhys of new contact ``c`` (once, in the functor's body order); clears its FLAG_NEW.
 
     A call of its own (not inlined): it runs once per contact, and one call site keeps the
     physics functors compiled once."""
     if C.con_i[c, I_FLAGS] & FLAG_PHYS_SWAP:
         id1, id2 = id2, id1
-    phys_call(C.con_i[c, I_PHYS], c, id1, id2, S, C, phys_prm)
+    phys_call(C.con_i[c, I_PHYS], c, id1, id2, S, C, phys_tab)
     C.con_i[c, I_FLAGS] &= ~FLAG_NEW
 
 
 @jit(inline="always")  # once per contact: no call (see granum.kernels.dispatch)
-def update_contact(c, S, C, geom_prm, phys_prm, law_prm, died):
+def update_contact(c, S, C, geom_tab, phys_tab, law_tab, died):
     """Geometry, physics (new contacts) and law of contact ``c``; flags its block in ``died`` if it ends."""
     flags = C.con_i[c, I_FLAGS]
     if not flags & FLAG_ALIVE:
         return
-    id1, id2 = contact_geometry(c, S, C, geom_prm)
+    id1, id2 = contact_geometry(c, S, C, geom_tab)
     if C.con_i[c, I_FLAGS] & FLAG_NEW:
-        contact_physics(c, id1, id2, S, C, phys_prm)
+        contact_physics(c, id1, id2, S, C, phys_tab)
     # functors may set flags of their own (geometry, law): change only the bits owned here
-    if not law_call(C.con_i[c, I_LAW], c, id1, id2, S, C, law_prm):
+    if not law_call(C.con_i[c, I_LAW], c, id1, id2, S, C, law_tab):
         C.con_i[c, I_FLAGS] &= ~FLAG_ALIVE
         died[c // BLOCK] = 1
 
 
 @jit
-def update_block(b, S, C, geom_prm, phys_prm, law_prm, died):
+def update_block(b, S, C, geom_tab, phys_tab, law_tab, died):
     """Contacts of block ``b``; the arrays are borrowed (no reference counting per contact: see
     ARCHITECTURE.md, "Kernel records")."""
-    geom_prm, phys_prm, law_prm, died = borrow((geom_prm, phys_prm, law_prm, died))
+    geom_tab, phys_tab, law_tab, died = borrow((geom_tab, phys_tab, law_tab, died))
     for c in range(b * BLOCK, min(C.ctr[C_CONTACTS], (b + 1) * BLOCK)):
-        update_contact(c, S, C, geom_prm, phys_prm, law_prm, died)
+        update_contact(c, S, C, geom_tab, phys_tab, law_tab, died)
 
 
-def _update(S, C, geom_prm, phys_prm, law_prm, died):
+def _update(S, C, geom_tab, phys_tab, law_tab, died):
     for b in prange(died.shape[0]):
-        update_block(b, S, C, geom_prm, phys_prm, law_prm, died)
+        update_block(b, S, C, geom_tab, phys_tab, law_tab, died)
 
 
 update, update_par = kernel(_update)
@@ -398,8 +399,8 @@ def compact(C):
     for c in range(n):
         if C.con_i[c, I_FLAGS] & FLAG_ALIVE:
             if k != c:
-                C.con_i[k, :] = C.con_i[c, :]
-                C.con_f[k, :] = C.con_f[c, :]
+                copy_row(C.con_i, k, c)
+                copy_row(C.con_f, k, c)
                 p = C.con_i[k, I_PAIR]
                 if p >= 0:
                     C.pair_con[p] = k
@@ -519,13 +520,13 @@ def contact_energy(S, C):
 def interaction_stage(S, C, P):
     """Engine stage of InteractionLoop.
 
-    P = (geom_code, geom_swap, geom_prm, geom_type, phys_code, phys_swap, phys_prm,
-    phys_type, law_code, law_prm, pair_ok, width); see :mod:`granum.engines.pipeline`.
+    P = (geom_code, geom_swap, geom_tab, geom_type, phys_code, phys_swap, phys_tab,
+    phys_type, law_code, law_tab, pair_ok, width); see :mod:`granum.engines.pipeline`.
     ``width``: the ``con_f`` columns the loop's functors use, and the energy columns when
     O.trackEnergy (:meth:`granum.engines.pipeline.InteractionLoop.params`); a narrower pool
     is widened first.
     """
-    (geom_code, geom_swap, geom_prm, geom_type, phys_code, phys_swap, phys_prm, phys_type, law_code, law_prm, pair_ok,
+    (geom_code, geom_swap, geom_tab, geom_type, phys_code, phys_swap, phys_tab, phys_type, law_code, law_tab, pair_ok,
      width) = P
     widen_contacts(C, width)
     nb = S.iscal[I_NBODIES]
@@ -538,9 +539,9 @@ def interaction_stage(S, C, P):
         body_motions_par(R, nb, motion)
     hits = np.zeros((V.ctr[C_PAIRS] + BLOCK - 1) // BLOCK, np.int64)
     if V.ctr[C_PAIRS] < PARALLEL_THRESHOLD:
-        detect(R, V, geom_code, geom_swap, geom_prm, pair_ok, motion, hits)
+        detect(R, V, geom_code, geom_swap, geom_tab, pair_ok, motion, hits)
     else:
-        detect_par(R, V, geom_code, geom_swap, geom_prm, pair_ok, motion, hits)
+        detect_par(R, V, geom_code, geom_swap, geom_tab, pair_ok, motion, hits)
     create_contacts(S, C, geom_code, geom_swap, geom_type, phys_code, phys_swap, phys_type, law_code, hits)
     if C.ctr[C_STATUS] != 0:
         return
@@ -548,9 +549,9 @@ def interaction_stage(S, C, P):
     n = V.ctr[C_CONTACTS]
     died = np.zeros((n + BLOCK - 1) // BLOCK, np.uint8)
     if n < PARALLEL_THRESHOLD_CONTACTS:
-        update(R, V, geom_prm, phys_prm, law_prm, died)
+        update(R, V, geom_tab, phys_tab, law_tab, died)
     else:
-        update_par(R, V, geom_prm, phys_prm, law_prm, died)
+        update_par(R, V, geom_tab, phys_tab, law_tab, died)
     unlink_dead(V, died)
     if V.ctr[C_CSR_DIRTY]:
         if 4 * V.ctr[C_DEAD] > V.ctr[C_CONTACTS]:

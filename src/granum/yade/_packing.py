@@ -30,6 +30,7 @@ from __future__ import annotations
 import numpy as np
 
 from granum._jit import jit
+from granum.kernels.copy import copy_items, copy_rows, set_row
 
 __all__ = ["clump_fill", "inverse_cdf", "inverse_cdf_many", "psd_table", "rsa_fill"]
 
@@ -200,7 +201,7 @@ def _grid_new(pos0, rad0, cap, lo, inv_w, nc, per):
 @jit
 def _grid_put(pos, rad, nxt, head, i, p, r, lo, inv_w, nc, per):
     """Store sphere ``i`` (centre ``p``, radius ``r``) and link it into its grid cell."""
-    pos[i] = p
+    set_row(pos, i, p)
     rad[i] = r
     c = _cell_of(pos[i], lo, inv_w, nc, per)
     nxt[i] = head[c]
@@ -217,9 +218,9 @@ def _grid_reserve(pos, rad, nxt, n, need):
     pos2 = np.empty((cap, 3))
     rad2 = np.empty(cap)
     nxt2 = np.full(cap, -1, np.int64)
-    pos2[:n] = pos[:n]
-    rad2[:n] = rad[:n]
-    nxt2[:n] = nxt[:n]
+    copy_rows(pos2, pos, n)
+    copy_items(rad2, rad, n)
+    copy_items(nxt2, nxt, n)
     return pos2, rad2, nxt2
 
 
@@ -380,7 +381,7 @@ def clump_fill(pos0, rad0, lo, length, per, tpl_start, tpl_rel, tpl_rad, num, ma
         pos, rad, nxt = _grid_reserve(pos, rad, nxt, n, n + m)
         if k == len(tpl_of):
             tpl2 = np.empty(2 * k, np.int64)
-            tpl2[:k] = tpl_of[:k]
+            copy_items(tpl2, tpl_of, k)
             tpl_of = tpl2
         # members go into the grid only now: they must not be tested against each other
         for j in range(m):

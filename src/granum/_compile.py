@@ -1,0 +1,126 @@
+"""A first run compiles an entry point's parts on two processes.
+
+Numba compiles on one thread. When an entry point (the step loop) is not in the disk
+cache, its caller can name the entry points it is made of (the stages), which are
+compiled first, each on its own and cached: the process forks, and parent and child
+take the parts one at a time, largest first, until none is left. The parent then loads
+the child's parts from the disk cache and compiles the entry point, which only links
+them. A later run with another engine list finds the parts in the cache.
+
+The child only compiles and writes the cache; it runs no kernel and exits without
+running Python's exit handlers. If it fails or stops making progress, the parent
+compiles what is missing itself, so the outcome never depends on the child. Forking
+is used on Linux only, with two or more cores, and can be switched off with
+``GRANUM_COMPILE_JOBS=1``.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import tempfile
+import time
+import warnings
+
+from granum import _linking
+
+#: A child that has not finished this long after the parent finished its own parts (and at least
+#: :data:`PATIENCE` times as long as the parent took) is taken as stuck: the parent compiles the rest [s].
+MIN_WAIT = 60.0
+PATIENCE = 3.0
+
+
+def processes() -> int:
+    """How many processes compile a first run's parts."""
+    setting = os.environ.get("GRANUM_COMPILE_JOBS", "")
+    if setting.strip():
+        try:
+            return max(1, int(setting))
+        except ValueError:
+            raise ValueError(f"GRANUM_COMPILE_JOBS must be a whole number, not {setting!r}") from None
+    if sys.platform != "linux":
+        return 1
+    return min(2, len(os.sched_getaffinity(0)))
+
+
+def reach(dispatcher, seen: set | None = None) -> int:
+    """How many granum functions ``dispatcher`` reaches through its globals: how much compiling it costs."""
+    seen = set() if seen is None else seen
+    if id(dispatcher) in seen:
+        return 0
+    seen.add(id(dispatcher))
+    func = dispatcher.py_func
+    total = 1
+    for name in func.__code__.co_names:
+        value = func.__globals__.get(name)
+        if getattr(value, "py_func", None) is not None and value.py_func.__module__.startswith("granum"):
+            total += reach(value, seen)
+    return total
+
+
+def _claim(folder: str, k: int) -> bool:
+    """Take part ``k`` (True once, for whichever process asks first)."""
+    try:
+        os.close(os.open(os.path.join(folder, str(k)), os.O_CREAT | os.O_EXCL | os.O_WRONLY))
+        return True
+    except FileExistsError:
+        return False
+
+
+def _compile(dispatcher, signatures) -> None:
+    for sig in signatures:
+        dispatcher.compile(sig)
+
+
+def compile_parts(parts: list[tuple[object, list[tuple]]]) -> None:
+    """Compile the entry points ``parts`` (``(dispatcher, [argument types, ...])``), each cached on disk,
+    on up to :func:`processes` processes. The caller holds the compile lock (:func:`granum._jit.compile_lock`)."""
+    todo = [(d, [s for s in sigs if not _linking.load_cached(d, s)]) for d, sigs in parts]
+    todo = sorted(((d, s) for d, s in todo if s), key=lambda p: -reach(p[0]))
+    if len(todo) < 2 or processes() < 2:
+        for d, sigs in todo:
+            _compile(d, sigs)
+        return
+    with tempfile.TemporaryDirectory(prefix="granum-claims-") as folder:
+        with warnings.catch_warnings():   # Python >= 3.12 warns about forking with threads: the child only compiles
+            warnings.simplefilter("ignore", DeprecationWarning)
+            pid = os.fork()
+        if pid == 0:
+            status = 1
+            try:
+                for k, (d, sigs) in enumerate(todo):
+                    if _claim(folder, k):
+                        _compile(d, sigs)
+                status = 0
+            finally:
+                os._exit(status)
+        start = time.monotonic()
+        try:
+            for k, (d, sigs) in enumerate(todo):
+                if _claim(folder, k):
+                    _compile(d, sigs)
+            _wait(pid, max(MIN_WAIT, PATIENCE * (time.monotonic() - start)))
+        finally:
+            _stop(pid)
+    for d, sigs in todo:   # the child's parts come from the disk cache (compiled here if it failed)
+        _compile(d, sigs)
+
+
+def _wait(pid: int, limit: float) -> None:
+    """Wait up to ``limit`` seconds for child ``pid`` to exit."""
+    deadline = time.monotonic() + limit
+    while time.monotonic() < deadline:
+        done, _ = os.waitpid(pid, os.WNOHANG)
+        if done:
+            return
+        time.sleep(0.02)
+
+
+def _stop(pid: int) -> None:
+    """End child ``pid`` if it still runs, and reap it."""
+    try:
+        if os.waitpid(pid, os.WNOHANG)[0] == 0:
+            os.kill(pid, 9)
+            os.waitpid(pid, 0)
+    except ChildProcessError:
+        pass

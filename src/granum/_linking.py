@@ -1,0 +1,171 @@
+"""How compiled code calls compiled code: canonical argument types and link-only callees.
+
+Numba compiles a function into its own *library*. It optimises the function, links into it
+the libraries of everything it calls, optimises the linked module as a whole and generates
+machine code for it. A callee is therefore optimised and translated again in every library
+above it: the step loop contains the stages, which contain the loops over blocks, which
+contain the per-item functions... On a first run, three quarters of the time spent in LLVM
+went into code it had already optimised or translated once.
+
+A granum function called from compiled code gets two changes (:func:`install`):
+
+* **Canonical argument types.** Numba compiles a callee once per tuple of argument types: a
+  constant argument (``load3_row(a, c, F_FN)``) types as its literal value, a ``prange``
+  index as ``uint64``, an index read from ``con_i`` as ``int32``, and the same function was
+  compiled up to five times over. Integer scalars are therefore passed as ``int64`` (Numba
+  converts them at the call: granum's integer arguments are indices, codes and flags, far
+  inside that range) and constants as their plain type. Integers inside tuples keep their
+  types (no kernel passes them between compiled functions with varying widths).
+* **Link-only compilation.** The callee's library is optimised function by function and
+  linked with the libraries it calls, and nothing more (:class:`LinkOnlyLibrary`): no
+  optimisation as a whole, no machine code, no entry point callable from Python, no disk
+  cache. The library of the *entry point* that finally links it (a function called from
+  Python: the step loop, a stage, a record conversion) optimises the whole and translates
+  it, once, and its cached machine code contains the callee.
+
+A callee that already has an ordinary compilation for the same types (it was called from
+Python, or is in the disk cache) is linked from that one instead. Recursion is not supported
+on the link-only path: a function that calls itself is compiled as usual.
+"""
+
+from __future__ import annotations
+
+from numba import types
+from numba.core import compiler, sigutils, typing
+from numba.core import event as numba_event
+from numba.core.codegen import JITCodeLibrary
+from numba.core.compiler_lock import global_compiler_lock
+
+
+def canonical(t):
+    """The type a callee is compiled for when called with an argument of type ``t``."""
+    t = types.unliteral(t)
+    return types.int64 if isinstance(t, types.Integer) else t
+
+
+class LinkOnlyLibrary(JITCodeLibrary):
+    """The library of a function that only compiled code calls: finalising it links its callees'
+    libraries into it and stops there. Whoever links this library optimises and translates it."""
+
+    def finalize(self):
+        self._raise_if_finalized()
+        seen = set()
+        for library in self._linking_libraries:
+            if library not in seen:
+                seen.add(library)
+                self._reload_init.update(library._reload_init)
+                self._final_module.link_in(library._get_module_for_linking(), preserve=True)
+        self._finalized = True
+
+
+class _LinkOnlyKey:
+    """Implementation key of a link-only compilation (Numba keys ordinary ones by their entry point)."""
+
+    __slots__ = ("name",)
+
+    def __init__(self, name: str):
+        self.name = name
+
+    def __repr__(self):
+        return f"<link-only {self.name}>"
+
+
+#: Environments of link-only functions by symbol name. Kept alive here: the entry point that links
+#: such a function sets its environment pointer when it is translated (:func:`_set_environments`), and
+#: Numba's cache stores the environments an entry point refers to only while they are alive.
+_ENVIRONMENTS: dict = {}
+
+
+def _compile_link_only(dispatcher, args: tuple):
+    """Compile ``dispatcher`` for ``args`` into a :class:`LinkOnlyLibrary`; register it for callers."""
+    target = dispatcher.targetdescr
+    flags = compiler.Flags()
+    target.options.parse_as_flags(flags, dispatcher.targetoptions)
+    flags = dispatcher._compiler._customize_flags(flags)
+    flags.no_compile = True            # no machine code, hence no entry point
+    flags.no_cpython_wrapper = True
+    flags.no_cfunc_wrapper = True
+    library = LinkOnlyLibrary(target.target_context.codegen(), dispatcher.py_func.__qualname__)
+    with numba_event.trigger_event("numba:compile", data=dict(dispatcher=dispatcher, args=args, return_type=None)):
+        cres = compiler.compile_extra(target.typing_context, target.target_context, dispatcher.py_func, args=args,
+                                      return_type=None, flags=flags, locals=dispatcher.locals, library=library,
+                                      pipeline_class=dispatcher._compiler.pipeline_class)
+    key = _LinkOnlyKey(dispatcher.py_func.__qualname__)
+    target.target_context.insert_user_function(key, cres.fndesc, [cres.library])
+    _ENVIRONMENTS[cres.fndesc.env_name] = cres.environment
+    return key, cres
+
+
+def load_cached(dispatcher, args: tuple) -> bool:
+    """Whether ``dispatcher`` has an ordinary compilation for argument types ``args``, in memory or, loaded
+    now, from its disk cache (an entry point compiled by an earlier run or another process)."""
+    with global_compiler_lock:
+        if args in dispatcher.overloads:
+            return True
+        cres = dispatcher._cache.load_overload(args, dispatcher.targetctx)
+        if cres is None:
+            return False
+        dispatcher.targetctx.insert_user_function(cres.entry_point, cres.fndesc, [cres.library])
+        dispatcher.add_overload(cres)
+        return True
+
+
+def install(dispatcher):
+    """Give ``dispatcher`` canonical argument types and link-only compilation when compiled code calls it."""
+    link_only: dict = {}      # argument types -> (implementation key, compile result)
+    compiling: set = set()
+    generic_template = dispatcher.get_call_template
+    generic_overload = dispatcher.get_overload
+
+    def get_call_template(args, kws):
+        args = tuple(canonical(a) for a in args)
+        kws = {k: canonical(v) for k, v in kws.items()}
+        pysig, folded = dispatcher._compiler.fold_argument_types(args, kws)
+        folded = tuple(folded)
+        with global_compiler_lock:
+            if folded in compiling:   # recursion: Numba's own path handles it
+                return generic_template(args, kws)
+            if folded not in link_only and not load_cached(dispatcher, folded):
+                compiling.add(folded)
+                try:
+                    link_only[folded] = _compile_link_only(dispatcher, folded)
+                finally:
+                    compiling.discard(folded)
+            signatures = list(dispatcher.nopython_signatures)
+            signatures += [cres.signature for a, (_, cres) in link_only.items() if a not in dispatcher.overloads]
+        name = dispatcher.py_func.__name__
+        template = typing.make_concrete_template(f"CallTemplate({name})", key=name, signatures=signatures)
+        return template, pysig, folded, {}
+
+    def get_overload(sig):
+        args = tuple(sigutils.normalize_signature(sig)[0])
+        if args not in dispatcher.overloads and args in link_only:
+            return link_only[args][0]
+        return generic_overload(sig)
+
+    dispatcher.get_call_template = get_call_template
+    dispatcher.get_overload = get_overload
+    return dispatcher
+
+
+def _set_environments(library) -> None:
+    """Point the environment globals of the link-only functions inside ``library`` at their environments."""
+    for gv in library._final_module.global_variables:
+        if gv.name in _ENVIRONMENTS:
+            library.codegen.set_env(gv.name, _ENVIRONMENTS[gv.name])
+
+
+class _TranslatedLibraries(numba_event.Listener):
+    """After every compilation of an entry point, set the environments of the link-only code it holds."""
+
+    def on_start(self, event):
+        pass
+
+    def on_end(self, event):
+        data = event.data or {}
+        cres = getattr(data.get("dispatcher"), "overloads", {}).get(tuple(data.get("args") or ()))
+        if cres is not None and cres.entry_point is not None and not isinstance(cres.library, LinkOnlyLibrary):
+            _set_environments(cres.library)
+
+
+numba_event.register("numba:compile", _TranslatedLibraries())

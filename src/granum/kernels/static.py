@@ -1,0 +1,59 @@
+"""Values that kernels are compiled for: the value is part of the argument's Numba type.
+
+A :class:`Static` passed to a compiled function makes Numba compile that function for
+its value, as it does for each distinct argument type, and the functions below it see
+the value while they are compiled: an ``@overload`` can choose its implementation by it
+(:mod:`granum.kernels.dispatch` compiles only the functors an engine lists, the
+collider only the broad phase of its kind of cell). At run time the argument is an
+empty pointer. Values are tuples of strings, integers and booleans, which name the
+compiled variant in the disk cache.
+"""
+
+from __future__ import annotations
+
+from numba import types
+from numba.core import cgutils
+from numba.extending import NativeValue, models, register_model, typeof_impl, unbox
+
+
+class Static:
+    """A compile-time value for kernels (a hashable tuple)."""
+
+    __slots__ = ("value",)
+
+    def __init__(self, value: tuple):
+        if not isinstance(value, tuple):
+            raise TypeError(f"a static value is a tuple, not {type(value).__name__}")
+        hash(value)
+        self.value = value
+
+    def __repr__(self):
+        return f"Static{self.value!r}"
+
+
+class StaticType(types.Type):
+    """Numba type of a :class:`Static`: it holds the value."""
+
+    def __init__(self, value: tuple):
+        self.value = value
+        super().__init__(name=f"Static{value!r}")
+
+
+def static_value(typ, kind: str):
+    """The value of ``typ`` if it is a :class:`StaticType` whose value starts with ``kind``, else None."""
+    if isinstance(typ, StaticType) and typ.value[:1] == (kind,):
+        return typ.value
+    return None
+
+
+@typeof_impl.register(Static)
+def _typeof_static(value, context):
+    return StaticType(value.value)
+
+
+register_model(StaticType)(models.OpaqueModel)
+
+
+@unbox(StaticType)
+def _unbox_static(typ, obj, c):
+    return NativeValue(cgutils.get_null_value(c.context.get_value_type(typ)))

@@ -1,0 +1,138 @@
+"""How granum compiles: link-only callees (granum._linking) and a first run's parts on two processes
+(granum._compile). Each test runs a small module of its own in a fresh process and cache directory."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import textwrap
+
+import pytest
+
+KERNELS = '''
+import numpy as np
+from granum._jit import jit
+
+
+@jit
+def inner(x):
+    if x > 5:
+        raise ValueError("too big", x)
+    print("inner", x)
+    return 2 * x
+
+
+@jit
+def outer(a):
+    s = 0
+    for v in a:
+        s += inner(v)          # an int64 from the array
+    s += inner(np.int32(1))    # other integer types: the same compilation
+    s += inner(np.uint8(1))
+    return s
+
+
+@jit
+def part_a(a):   # NumPy's median and sort: seconds of compilation, so that each process takes a part
+    return np.median(a) + np.sort(a)[-1]
+
+
+@jit
+def part_b(a):
+    return float(np.argsort(a, kind="mergesort")[0]) + np.cumsum(a)[-1]
+
+
+@jit
+def whole(a):
+    return part_a(a) + part_b(a)
+'''
+
+
+def _run(folder, script: str, **env) -> str:
+    """Run ``script`` in ``folder`` (created) with the module above importable as ``kern`` and a cache
+    directory of its own; its standard output."""
+    folder.mkdir(exist_ok=True)
+    (folder / "kern.py").write_text(KERNELS)
+    environ = {**os.environ, "GRANUM_CACHE_DIR": str(folder / "cache"), **env}
+    out = subprocess.run([sys.executable, "-c", textwrap.dedent(script)], cwd=folder, env=environ, check=True,
+                         capture_output=True, text=True, timeout=600)
+    return out.stdout
+
+
+LINK_ONLY = '''
+import numpy as np
+import kern
+from granum._linking import LinkOnlyLibrary
+print("sum", kern.outer(np.arange(3)))
+try:
+    kern.outer(np.arange(8))
+except ValueError as e:
+    print("raised", e.args)
+print("entry points of inner:", len(kern.inner.overloads))
+print("outer compiled:", len(kern.outer.overloads), "loaded from the cache:", sum(kern.outer.stats.cache_hits.values()))
+print("link-only:", isinstance(kern.outer.overloads[next(iter(kern.outer.overloads))].library, LinkOnlyLibrary))
+'''
+
+
+def test_link_only_callees_print_raise_and_are_cached_inside_their_entry_point(tmp_path):
+    """A callee compiled link-only has its environment (print, exceptions with values), is compiled once for
+    all integer types, is not an entry point of its own, and its code comes back with the entry point's cache."""
+    first = _run(tmp_path, LINK_ONLY)
+    second = _run(tmp_path, LINK_ONLY)
+    for out in (first, second):
+        assert "inner 0\ninner 1\ninner 2\ninner 1\ninner 1\nsum 10\n" in out
+        assert "raised ('too big', 6)" in out
+        assert "entry points of inner: 0" in out
+        assert "link-only: False" in out
+    assert "outer compiled: 1 loaded from the cache: 0" in first
+    assert "outer compiled: 1 loaded from the cache: 1" in second
+
+
+PARTS = '''
+import os, time
+import numpy as np
+import kern
+from granum import _compile, _jit
+a = np.linspace(0.0, 1.0, 7)
+parent = os.getpid()
+CHILD = None
+if CHILD is not None:   # the child process misbehaves when it takes a part
+    compile_here = _compile._compile
+    def _compile_part(d, sigs):
+        if os.getpid() != parent:
+            exec(CHILD)
+        compile_here(d, sigs)
+    _compile._compile = _compile_part
+    _compile.MIN_WAIT = 1.0
+    _compile.PATIENCE = 1.0
+value = _jit.call(kern.whole, a, parts=[(kern.part_a, [(a,)]), (kern.part_b, [(a,)])])
+print("parts from the cache:", sum(sum(d.stats.cache_hits.values()) for d in (kern.part_a, kern.part_b)))
+reference = np.median(a) + a.max() + np.cumsum(a)[-1]
+print("value equals NumPy's:", value == reference)
+'''
+
+
+@pytest.mark.skipif(sys.platform != "linux", reason="parts are compiled on two processes on Linux only")
+def test_parts_compiled_by_a_second_process_are_loaded_from_the_cache(tmp_path):
+    two = _run(tmp_path / "two", PARTS, GRANUM_COMPILE_JOBS="2")
+    assert "parts from the cache: 1" in two     # the child compiled one part, the parent loaded it
+    assert "value equals NumPy's: True" in two
+    one = _run(tmp_path / "one", PARTS, GRANUM_COMPILE_JOBS="1")
+    assert "parts from the cache: 0" in one
+    assert "value equals NumPy's: True" in one
+
+
+@pytest.mark.skipif(sys.platform != "linux", reason="parts are compiled on two processes on Linux only")
+@pytest.mark.parametrize("child", ["os._exit(3)", "time.sleep(600)"], ids=["dies", "hangs"])
+def test_a_failing_second_process_only_costs_time(tmp_path, child):
+    """A child that dies, or stops making progress, leaves its parts to the parent: same result."""
+    out = _run(tmp_path, PARTS.replace("CHILD = None", f"CHILD = {child!r}"), GRANUM_COMPILE_JOBS="2")
+    assert "parts from the cache: 0" in out
+    assert "value equals NumPy's: True" in out
+
+
+def test_compile_jobs_setting_is_checked(tmp_path):
+    with pytest.raises(subprocess.CalledProcessError) as err:
+        _run(tmp_path, PARTS, GRANUM_COMPILE_JOBS="two")
+    assert "GRANUM_COMPILE_JOBS must be a whole number" in err.value.stderr
