@@ -1,5 +1,6 @@
-"""How granum compiles: link-only callees (granum._linking) and a first run's parts on two processes
-(granum._compile). Each test runs a small module of its own in a fresh process and cache directory."""
+"""How granum compiles: link-only callees and calls by symbol (granum._linking), and a first run's parts on
+two processes (granum._compile). Each test runs a small module of its own in a fresh process and cache
+directory."""
 
 from __future__ import annotations
 
@@ -13,6 +14,7 @@ import pytest
 KERNELS = '''
 import numpy as np
 from granum._jit import jit
+from granum._linking import call_entry
 
 
 @jit
@@ -44,8 +46,8 @@ def part_b(a):
 
 
 @jit
-def whole(a):
-    return part_a(a) + part_b(a)
+def whole(a):   # calls its parts by symbol: their code stays in their own entry points
+    return call_entry(part_a, (a,)) + call_entry(part_b, (a,))
 '''
 
 
@@ -106,8 +108,12 @@ if CHILD is not None:   # the child process misbehaves when it takes a part
     _compile._compile = _compile_part
     _compile.MIN_WAIT = 1.0
     _compile.PATIENCE = 1.0
-value = _jit.call(kern.whole, a, parts=[(kern.part_a, [(a,)]), (kern.part_b, [(a,)])])
+symbols = _jit.entry_points([(kern.part_a, [(a,)]), (kern.part_b, [(a,)])])
+value = kern.whole(a)
 print("parts from the cache:", sum(sum(d.stats.cache_hits.values()) for d in (kern.part_a, kern.part_b)))
+ir = next(iter(kern.whole.inspect_llvm().values())).splitlines()
+print("parts declared:", sum(line.startswith("declare") and any(s in line for s in symbols) for line in ir),
+      "defined:", sum(line.startswith("define") and any(s in line for s in symbols) for line in ir))
 reference = np.median(a) + a.max() + np.cumsum(a)[-1]
 print("value equals NumPy's:", value == reference)
 '''
@@ -118,6 +124,7 @@ def test_parts_compiled_by_a_second_process_are_loaded_from_the_cache(tmp_path):
     two = _run(tmp_path / "two", PARTS, GRANUM_COMPILE_JOBS="2")
     assert "parts from the cache: 1" in two     # the child compiled one part, the parent loaded it
     assert "value equals NumPy's: True" in two
+    assert "parts declared: 2 defined: 0" in two
     one = _run(tmp_path / "one", PARTS, GRANUM_COMPILE_JOBS="1")
     assert "parts from the cache: 0" in one
     assert "value equals NumPy's: True" in one

@@ -147,25 +147,27 @@ def compile_lock():
 _warm: set[int] = set()
 
 
-def call(fn, *args, parts=None):
+def call(fn, *args):
     """Call compiled ``fn`` from Python, compiling it (or loading it from the cache) under
     :func:`compile_lock` the first time. Only the compilation holds the lock: a long first call
-    must not keep other processes (the jobs of a batch) from running their own kernels.
-
-    ``parts``: compiled functions that ``fn`` calls, as ``(dispatcher, [argument values, ...])``.
-    When ``fn`` must be compiled, they are compiled first as entry points of their own, on two
-    processes (:mod:`granum._compile`).
-    """
+    must not keep other processes (the jobs of a batch) from running their own kernels."""
     if id(fn) not in _warm:
-        sig = tuple(fn.typeof_pyval(a) for a in args)
         with compile_lock():
-            if parts is not None and not _linking.load_cached(fn, sig):
-                _compile.compile_parts([(d, [tuple(d.typeof_pyval(a) for a in values) for values in calls])
-                                        for d, calls in parts])
-            fn.compile(sig)
+            fn.compile(tuple(fn.typeof_pyval(a) for a in args))
         _warm.add(id(fn))
     return fn(*args)
 
 
-__all__ = ["call", "compile_lock", "jit", "kernel", "njit", "prange", "BLOCK", "PARALLEL_THRESHOLD", "CACHE_DIR",
-           "SOURCE_HASH"]
+def entry_points(calls) -> list[str]:
+    """Load or compile the entry points ``calls`` (``(dispatcher, [argument values, ...])``), those missing from
+    the disk cache on two processes (:mod:`granum._compile`); their symbols, for callers that call them by
+    symbol (:func:`granum._linking.call_entry`)."""
+    parts = [(d, [tuple(d.typeof_pyval(a) for a in values) for values in argument_lists])
+             for d, argument_lists in calls]
+    with compile_lock():
+        _compile.compile_parts(parts)
+    return [_linking.entry_symbol(d, sig) for d, sigs in parts for sig in sigs]
+
+
+__all__ = ["call", "compile_lock", "entry_points", "jit", "kernel", "njit", "prange", "BLOCK", "PARALLEL_THRESHOLD",
+           "CACHE_DIR", "SOURCE_HASH"]

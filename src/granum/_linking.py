@@ -26,15 +26,25 @@ A granum function called from compiled code gets two changes (:func:`install`):
 A callee that already has an ordinary compilation for the same types (it was called from
 Python, or is in the disk cache) is linked from that one instead. Recursion is not supported
 on the link-only path: a function that calls itself is compiled as usual.
+
+**Calls by symbol.** :func:`call_entry` calls an entry point without linking its library: the
+caller only declares the function, and the JIT resolves the symbol to the machine code already
+loaded. The step loop calls its stages so, and compiles in a fraction of a second instead of
+optimising and translating the whole program once more. The entry point must be loaded before
+the caller's machine code (the runner loads a plan's stages first), under the symbol the caller
+was compiled against (:func:`entry_symbol`; the step loop's source names the symbols it uses, so
+a recompiled stage gets a new step loop).
 """
 
 from __future__ import annotations
 
 from numba import types
-from numba.core import compiler, sigutils, typing
+from numba.core import cgutils, compiler, sigutils, typing
 from numba.core import event as numba_event
 from numba.core.codegen import JITCodeLibrary
 from numba.core.compiler_lock import global_compiler_lock
+from numba.core.imputils import user_function
+from numba.extending import intrinsic
 
 
 def canonical(t):
@@ -110,16 +120,43 @@ def load_cached(dispatcher, args: tuple) -> bool:
         return True
 
 
-def install(dispatcher):
-    """Give ``dispatcher`` canonical argument types and link-only compilation when compiled code calls it."""
+def entry_symbol(dispatcher, args: tuple) -> str:
+    """The symbol of ``dispatcher``'s entry point for argument types ``args`` (which must exist)."""
+    return dispatcher.overloads[tuple(args)].fndesc.mangled_name
+
+
+@intrinsic
+def call_entry(typingctx, fn, args):
+    """``fn(*args)`` through the symbol of ``fn``'s entry point for the types of ``args`` (a tuple), which is
+    compiled here if it is neither in memory nor in the disk cache. Compiled code only."""
+    if not isinstance(fn, types.Dispatcher) or not isinstance(args, types.BaseTuple):
+        return None
+    argtypes = tuple(args.types)
+    dispatcher = fn.dispatcher
+    with global_compiler_lock:
+        if not load_cached(dispatcher, argtypes):
+            dispatcher.compile(argtypes)
+    fndesc = dispatcher.overloads[argtypes].fndesc
+
+    def codegen(context, builder, sig, llargs):
+        values = cgutils.unpack_tuple(builder, llargs[1], len(argtypes))
+        return user_function(fndesc, ())(context, builder, fndesc.restype(*argtypes), values)
+
+    return fndesc.restype(fn, args), codegen
+
+
+def install(dispatcher, canonical_types: bool = True):
+    """Give ``dispatcher`` link-only compilation when compiled code calls it, and canonical argument types
+    unless ``canonical_types`` is false."""
     link_only: dict = {}      # argument types -> (implementation key, compile result)
     compiling: set = set()
     generic_template = dispatcher.get_call_template
     generic_overload = dispatcher.get_overload
 
     def get_call_template(args, kws):
-        args = tuple(canonical(a) for a in args)
-        kws = {k: canonical(v) for k, v in kws.items()}
+        if canonical_types:
+            args = tuple(canonical(a) for a in args)
+            kws = {k: canonical(v) for k, v in kws.items()}
         pysig, folded = dispatcher._compiler.fold_argument_types(args, kws)
         folded = tuple(folded)
         with global_compiler_lock:
@@ -169,3 +206,32 @@ class _TranslatedLibraries(numba_event.Listener):
 
 
 numba_event.register("numba:compile", _TranslatedLibraries())
+
+
+def _link_only_overloads() -> None:
+    """Compile the implementations of ``@overload`` functions (NumPy's ``np.zeros``, granum's dispatch...)
+    link-only as well: Numba compiles one for every combination of argument types a kernel uses, and only
+    compiled code calls them. Their argument types are kept (an overload may depend on them)."""
+    from numba.core.registry import CPUDispatcher
+    from numba.core.typing.templates import _OverloadFunctionTemplate
+
+    generic = _OverloadFunctionTemplate._get_jit_decorator
+
+    def _get_jit_decorator(self):
+        jitter = generic(self)
+
+        def decorator(**options):
+            make = jitter(**options)
+
+            def decorate(pyfunc):
+                d = make(pyfunc)
+                return install(d, canonical_types=False) if isinstance(d, CPUDispatcher) else d
+
+            return decorate
+
+        return decorator
+
+    _OverloadFunctionTemplate._get_jit_decorator = _get_jit_decorator
+
+
+_link_only_overloads()

@@ -19,7 +19,7 @@ import time
 
 import numpy as np
 
-from granum._jit import call
+from granum._jit import call, entry_points
 from granum.core import heap
 from granum.core.arrays import I_HOOK
 from granum.core.bodies import ShapeKind
@@ -36,6 +36,7 @@ from granum.core.contacts import (
 from granum.engines.base import PeriodicEngine
 from granum.kernels import steploop
 from granum.kernels.cell import step_begin, step_end
+from granum.kernels.static import Static
 
 #: Longest wall-clock time of one compiled chunk [s].
 CHUNK_SECONDS = 0.25
@@ -69,16 +70,38 @@ class Plan:
                 segments[-1].append(e)
         self.compiled = [e for seg in segments for e in seg]
         self.python = [e for e in self.live if e.stage is None]
-        self.module = steploop.load([[e.stage for e in seg] for seg in segments])
+        self.segments = [[e.stage for e in seg] for seg in segments]
         self.key = plan_key(engines)
+        self._loops: dict = {}
 
-    def parts(self, S, C, PP) -> list:
-        """The compiled functions the step loop calls, with their arguments (see :func:`granum._jit.call`)."""
-        calls: dict = {step_begin: [(S,)], step_end: [(S,)]}
-        for e, P in zip(self.compiled, PP, strict=True):
-            module, name = e.stage.split(":")
-            calls.setdefault(getattr(importlib.import_module(module), name), []).append((S, C, P))
-        return list(calls.items())
+    def run_steps(self, S, C, PP):
+        """The compiled step loop for these arguments (see :mod:`granum.kernels.steploop`).
+
+        The first time for their types, the functions it calls (the stages, the cell's step boundaries)
+        are loaded from the disk cache or compiled, on two processes (:func:`granum._jit.entry_points`),
+        and the loop is generated to call their symbols.
+        """
+        key = (_type_key(S), _type_key(C), _type_key(PP))
+        loop = self._loops.get(key)
+        if loop is None:
+            calls: dict = {step_begin: [(S,)], step_end: [(S,)]}
+            for e, P in zip(self.compiled, PP, strict=True):
+                module, name = e.stage.split(":")
+                calls.setdefault(getattr(importlib.import_module(module), name), []).append((S, C, P))
+            loop = self._loops[key] = steploop.load(self.segments, entry_points(list(calls.items()))).run_steps
+        return loop
+
+
+def _type_key(value):
+    """What determines the Numba type of a kernel argument (records, arrays, scalars, static values,
+    tuples of them), computed faster than the type itself: the step loop is compiled per type."""
+    if isinstance(value, tuple):
+        return tuple(_type_key(v) for v in value)
+    if isinstance(value, np.ndarray):
+        return value.dtype.str, value.ndim, value.flags.c_contiguous, value.flags.f_contiguous, value.flags.writeable
+    if isinstance(value, Static):
+        return value.value
+    return getattr(value, "_type", type(value))
 
 
 def plan_key(engines) -> tuple:
@@ -155,8 +178,8 @@ class Runner:
             timing, times = self.timing(plan)
             t0 = time.perf_counter()
             PP = self.params(plan)
-            done, why = call(plan.module.run_steps, m, -1, S, C, PP, float(stop_time), virt_last, virt_period, timing,
-                             times, parts=plan.parts(S, C, PP))
+            done, why = call(plan.run_steps(S, C, PP), m, -1, S, C, PP, float(stop_time), virt_last, virt_period,
+                             timing, times)
             scene.contacts = CONTACTS.from_record(C)
             self.sync_counters(plan, times)
             if done:
@@ -196,8 +219,7 @@ class Runner:
                 S = scene.arrays()
                 C = CONTACTS.to_record(scene.contacts)
                 PP = self.params(plan)
-                call(plan.module.run_steps, 0, item, S, C, PP, np.inf, _NONE, _NONE, timing, times,
-                     parts=plan.parts(S, C, PP))
+                call(plan.run_steps(S, C, PP), 0, item, S, C, PP, np.inf, _NONE, _NONE, timing, times)
                 scene.contacts = CONTACTS.from_record(C)
                 if scene.contacts.ctr[C_STATUS]:
                     self.sync_counters(plan, times)
