@@ -49,7 +49,7 @@ from granum.kernels.collider_periodic import find_pairs_periodic
 from granum.kernels.copy import copy_rows
 from granum.kernels.dispatch import bound_call
 from granum.kernels.pairing import may_collide
-from granum.kernels.sorting import argsort_keys, median
+from granum.kernels.sorting import argsort_keys, lower_bound, median
 from granum.kernels.static import static_value
 from granum.physics.vec import load3, load4, quat_angle, quat_mul, sub
 
@@ -177,9 +177,7 @@ def cell_range(key, keys_sorted, dense_start):
         if key < 0 or key >= dense_start.shape[0] - 1:
             return 0, 0
         return dense_start[key], dense_start[key + 1]
-    a = np.searchsorted(keys_sorted, key, side="left")
-    b = np.searchsorted(keys_sorted, key, side="right")
-    return a, b
+    return lower_bound(keys_sorted, key), lower_bound(keys_sorted, key + 1)
 
 
 @jit
@@ -258,10 +256,16 @@ partners, partners_par = kernel(_partners)
 
 
 @jit
-def find_pairs(S, nb, avoid_self):
-    """All pairs (i < j) with overlapping bounds that may collide, sorted, shape (P, 2)."""
+def grid_bodies(S, nb):
+    """Split the bodies with a bound into those binned in the grid and the large ones tested against all.
+
+    The grid spacing ``h`` is the largest bound width (largest extent) not above four times the median
+    finite width; bodies no wider than ``h`` are binned. Returns ``(small, idx, large, h)``: the mask (nb,)
+    of binned bodies, their ids (int64) and the ids of the others with a bound (int32), in id order.
+    """
     width = np.zeros(nb)
     bounded = np.zeros(nb, np.bool_)
+    nfinite = 0
     for i in range(nb):
         if S.bound_min[i, 0] <= S.bound_max[i, 0]:
             bounded[i] = True
@@ -269,19 +273,47 @@ def find_pairs(S, nb, avoid_self):
             for k in range(3):
                 w = max(w, S.bound_max[i, k] - S.bound_min[i, k])
             width[i] = w
-    finite = width[bounded & np.isfinite(width)]
+            nfinite += math.isfinite(w)
+    finite = np.empty(nfinite)
+    t = 0
+    for i in range(nb):
+        if bounded[i] and math.isfinite(width[i]):
+            finite[t] = width[i]
+            t += 1
     h = 0.0
-    if finite.shape[0] > 0:
+    if nfinite > 0:
         ref = median(finite)
         for w in finite:
             if w <= 4.0 * ref:
                 h = max(h, w)
-    small = bounded & np.isfinite(width) & (width <= h) & (h > 0.0)
-    large = np.nonzero(bounded & ~small)[0].astype(np.int32)
+    small = np.zeros(nb, np.bool_)
+    nsmall = 0
+    nlarge = 0
+    for i in range(nb):
+        small[i] = bounded[i] and math.isfinite(width[i]) and width[i] <= h and h > 0.0
+        nsmall += small[i]
+        nlarge += bounded[i] and not small[i]
+    idx = np.empty(nsmall, np.int64)
+    large = np.empty(nlarge, np.int32)
+    nsmall = 0
+    nlarge = 0
+    for i in range(nb):
+        if small[i]:
+            idx[nsmall] = i
+            nsmall += 1
+        elif bounded[i]:
+            large[nlarge] = i
+            nlarge += 1
+    return small, idx, large, h
+
+
+@jit
+def find_pairs(S, nb, avoid_self):
+    """All pairs (i < j) with overlapping bounds that may collide, sorted, shape (P, 2)."""
+    small, idx, large, h = grid_bodies(S, nb)
     # bin the small bodies by the cell of their lower corner
     cell = np.zeros((nb, 3), np.int64)
     dims = np.ones(3, np.int64)
-    idx = np.nonzero(small)[0]
     if idx.shape[0] > 0:
         lo = np.empty(3)
         hi = np.empty(3)
@@ -305,8 +337,11 @@ def find_pairs(S, nb, avoid_self):
         i = idx[t]
         keys[t] = (cell[i, 0] * dims[1] + cell[i, 1]) * dims[2] + cell[i, 2]
     perm = argsort_keys(keys)
-    order = idx[perm].astype(np.int32)
-    keys_sorted = keys[perm]
+    order = np.empty(idx.shape[0], np.int32)
+    keys_sorted = np.empty(idx.shape[0], np.int64)
+    for t in range(idx.shape[0]):
+        order[t] = idx[perm[t]]
+        keys_sorted[t] = keys[perm[t]]
     ncells = dims[0] * dims[1] * dims[2]
     if ncells <= 4 * idx.shape[0] + 1024:
         dense_start = np.zeros(ncells + 1, np.int64)

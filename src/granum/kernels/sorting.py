@@ -1,9 +1,10 @@
-"""Order statistics and a stable sort for the broad phase, written as plain loops.
+"""Order statistics, a stable sort and a binary search for the broad phase, as plain loops.
 
-``np.median`` and ``np.argsort(kind="mergesort")`` compile NumPy's general machinery
-(partitioning, a templated merge sort) into every first run, at one to two seconds
-each. The broad phase needs only a median of bound sizes and a stable order of
-non-negative integer cell keys, which these few loops give.
+``np.median``, ``np.argsort(kind="mergesort")`` and ``np.searchsorted`` compile NumPy's
+general machinery (partitioning, a templated merge sort) into every first run, at one to
+two seconds each. The broad phase needs only a median of bound sizes, a stable order of
+non-negative integer cell keys and the position of a key among sorted ones, which these
+few loops give.
 """
 
 from __future__ import annotations
@@ -85,3 +86,17 @@ def argsort_keys(keys):
         order, spare = spare, order
         shift += _DIGIT_BITS
     return order
+
+
+@jit
+def lower_bound(a, x):
+    """First index of the sorted 1-D array ``a`` whose value is not below ``x`` (``np.searchsorted(a, x)``)."""
+    lo = 0
+    hi = a.shape[0]
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if a[mid] < x:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo
