@@ -143,3 +143,23 @@ def test_compile_jobs_setting_is_checked(tmp_path):
     with pytest.raises(subprocess.CalledProcessError) as err:
         _run(tmp_path, PARTS, GRANUM_COMPILE_JOBS="two")
     assert "GRANUM_COMPILE_JOBS must be a whole number" in err.value.stderr
+
+
+def test_dispatch_is_generated_for_the_functors_a_table_lists():
+    from granum.kernels import dispatch
+    from granum.kernels.static import Static, StaticType, static_value
+    from granum.physics import registry
+
+    sphere = dispatch.code_of("Ig2_Sphere_Sphere_ScGeom")
+    source = dispatch.render("geom", (sphere,))
+    assert registry.FUNCTORS["Ig2_Sphere_Sphere_ScGeom"].func.split(":")[1] in source
+    for other in ("Ig2_Facet_Sphere_ScGeom", "Ig2_Wall_Sphere_ScGeom", "Ig2_Box_Sphere_ScGeom"):
+        assert registry.FUNCTORS[other].func.split(":")[1] not in source
+    table = dispatch.functor_set("geom", [sphere, sphere])
+    assert table.value == ("functors", "geom", (sphere,))
+    assert static_value(StaticType(table.value), "functors") == table.value
+    assert static_value(StaticType(table.value), "cell") is None
+    with pytest.raises(ValueError, match="unknown functor role"):
+        dispatch.functor_set("shape", [0])
+    with pytest.raises(TypeError, match="a static value is a tuple"):
+        Static(["functors"])

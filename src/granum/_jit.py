@@ -158,6 +158,18 @@ def call(fn, *args):
     return fn(*args)
 
 
+def entry(fn, *args):
+    """The entry point of compiled ``fn`` for the types of ``args``, compiled (or loaded from the cache) under
+    :func:`compile_lock` if new: a C function that converts such arguments without typing them. Numba's
+    dispatcher types an argument it cannot fingerprint in C (a tuple holding a static value, as a plan's
+    parameters do) in Python at every call, which cost milliseconds per call."""
+    sig = tuple(fn.typeof_pyval(a) for a in args)
+    if sig not in fn.overloads:
+        with compile_lock():
+            fn.compile(sig)
+    return fn.overloads[sig].entry_point
+
+
 def entry_points(calls) -> list[str]:
     """Load or compile the entry points ``calls`` (``(dispatcher, [argument values, ...])``), those missing from
     the disk cache on two processes (:mod:`granum._compile`); their symbols, for callers that call them by
@@ -169,5 +181,5 @@ def entry_points(calls) -> list[str]:
     return [_linking.entry_symbol(d, sig) for d, sigs in parts for sig in sigs]
 
 
-__all__ = ["call", "compile_lock", "entry_points", "jit", "kernel", "njit", "prange", "BLOCK", "PARALLEL_THRESHOLD",
-           "CACHE_DIR", "SOURCE_HASH"]
+__all__ = ["call", "compile_lock", "entry", "entry_points", "jit", "kernel", "njit", "prange", "BLOCK",
+           "PARALLEL_THRESHOLD", "CACHE_DIR", "SOURCE_HASH"]

@@ -19,7 +19,7 @@ import time
 
 import numpy as np
 
-from granum._jit import call, entry_points
+from granum._jit import call, entry, entry_points
 from granum.core import heap
 from granum.core.arrays import I_HOOK
 from granum.core.bodies import ShapeKind
@@ -74,13 +74,15 @@ class Plan:
         self.key = plan_key(engines)
         self._loops: dict = {}
 
-    def run_steps(self, S, C, PP):
-        """The compiled step loop for these arguments (see :mod:`granum.kernels.steploop`).
+    def run_steps(self, *args):
+        """Run the compiled step loop ``run_steps(*args)`` (see :mod:`granum.kernels.steploop`).
 
-        The first time for their types, the functions it calls (the stages, the cell's step boundaries)
-        are loaded from the disk cache or compiled, on two processes (:func:`granum._jit.entry_points`),
-        and the loop is generated to call their symbols.
+        The first time for the types of the scene, contacts and parameters, the functions the loop calls
+        (the stages, the cell's step boundaries) are loaded from the disk cache or compiled, on two processes
+        (:func:`granum._jit.entry_points`), and the loop is generated to call their symbols. Its entry point
+        is kept per types (the other arguments' types never change): calls skip Numba's typing.
         """
+        S, C, PP = args[2:5]
         key = (_type_key(S), _type_key(C), _type_key(PP))
         loop = self._loops.get(key)
         if loop is None:
@@ -88,8 +90,9 @@ class Plan:
             for e, P in zip(self.compiled, PP, strict=True):
                 module, name = e.stage.split(":")
                 calls.setdefault(getattr(importlib.import_module(module), name), []).append((S, C, P))
-            loop = self._loops[key] = steploop.load(self.segments, entry_points(list(calls.items()))).run_steps
-        return loop
+            module = steploop.load(self.segments, entry_points(list(calls.items())))
+            loop = self._loops[key] = entry(module.run_steps, *args)
+        return loop(*args)
 
 
 def _type_key(value):
@@ -178,8 +181,7 @@ class Runner:
             timing, times = self.timing(plan)
             t0 = time.perf_counter()
             PP = self.params(plan)
-            done, why = call(plan.run_steps(S, C, PP), m, -1, S, C, PP, float(stop_time), virt_last, virt_period,
-                             timing, times)
+            done, why = plan.run_steps(m, -1, S, C, PP, float(stop_time), virt_last, virt_period, timing, times)
             scene.contacts = CONTACTS.from_record(C)
             self.sync_counters(plan, times)
             if done:
@@ -219,7 +221,7 @@ class Runner:
                 S = scene.arrays()
                 C = CONTACTS.to_record(scene.contacts)
                 PP = self.params(plan)
-                call(plan.run_steps(S, C, PP), 0, item, S, C, PP, np.inf, _NONE, _NONE, timing, times)
+                plan.run_steps(0, item, S, C, PP, np.inf, _NONE, _NONE, timing, times)
                 scene.contacts = CONTACTS.from_record(C)
                 if scene.contacts.ctr[C_STATUS]:
                     self.sync_counters(plan, times)
