@@ -104,6 +104,7 @@ class Scene(BodyStore):
         #: digest of the geometry functors and parameters the pairs' detection budgets were computed with
         self.detection_key = ""
         self._mat_cache = None
+        self._record = None   # (ids of the arrays, the record made of them): see arrays()
 
     # ---- clock ----------------------------------------------------------------------
     @property
@@ -200,7 +201,12 @@ class Scene(BodyStore):
         return kind, mat
 
     def arrays(self):
-        """Record of all scene arrays for the kernels (cheap; rebuild after any edit)."""
+        """Record of all scene arrays for the kernels (cheap; call again after any edit).
+
+        The record is kept while it is made of the same arrays (compiled code never replaces the
+        scene's arrays), so a run with a Python engine every few steps does not rebuild it at every
+        chunk; :meth:`forget_record` drops it at the end of a run, so that it keeps no replaced
+        array alive."""
         b = self.bodies
         self.iscal[I_NBODIES] = b.count
         self.contacts = resize_for_bodies(self.contacts, b.count)
@@ -217,4 +223,15 @@ class Scene(BodyStore):
                       cell_prev_velgrad=self.cell_prev_velgrad, cell_trsf=self.cell_trsf,
                       cell_bound_hsize=self.cell_bound_hsize, clump_members=self.clump_members.id,
                       scal=self.scal, iscal=self.iscal, energy=self.energy, energy_set=self.energy_set)
-        return SCENE.to_record([values[n] for n in SCENE.names])
+        arrays = [values[n] for n in SCENE.names]
+        # an array is identified by its storage and shape; empty ones (lazy columns not in use, made
+        # anew at every call) by their shape and dtype
+        key = tuple((a.shape, a.dtype.str) if a.size == 0 else (id(a) if a.base is None else id(a.base), a.shape)
+                    for a in arrays)
+        if self._record is None or self._record[0] != key:
+            self._record = (key, SCENE.to_record(arrays))
+        return self._record[1]
+
+    def forget_record(self) -> None:
+        """Drop the record kept by :meth:`arrays`."""
+        self._record = None

@@ -8,6 +8,8 @@ here from the listed functors and the type hierarchies of the registry.
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from granum.core.attrs import Attr, to_bool, to_float, to_int
@@ -146,49 +148,10 @@ class InteractionLoop(GlobalEngine):
         return self.geomDispatcher.functors + self.physDispatcher.functors + self.lawDispatcher.functors
 
     def tables(self, scene) -> dict:
-        """Dispatch tables from the listed functors (see :func:`interaction_stage`)."""
-        geoms = self.geomDispatcher.functors
-        geom_code = np.full((NKINDS, NKINDS), -1, np.int32)
-        geom_swap = np.zeros((NKINDS, NKINDS), np.uint8)
-        for f in geoms:
-            a, b = f.spec.types
-            geom_code[a, b], geom_swap[a, b] = f.code, 0
-            if geom_code[b, a] < 0:
-                geom_code[b, a], geom_swap[b, a] = f.code, 1
-        pair_ok = np.zeros((NKINDS, NKINDS), np.int8)
-        for spec in functors("geom"):
-            a, b = spec.types
-            pair_ok[a, b] = pair_ok[b, a] = 2
-        pair_ok[geom_code >= 0] = 1
-        geom_type = np.array([registry.GEOM_TYPES[s.produces].code for s in functors("geom")], np.int32)
-
-        mats = list(registry.MATERIALS)
-        phys_code = np.full((len(mats), len(mats)), -1, np.int32)
-        phys_swap = np.zeros((len(mats), len(mats)), np.uint8)
-        for i, m1 in enumerate(mats):
-            for j, m2 in enumerate(mats):
-                f, swapped = registry.best_match([p.spec for p in self.physDispatcher.functors],
-                                                 registry.material_ancestry(m1), registry.material_ancestry(m2))
-                if f is not None:
-                    phys_code[i, j], phys_swap[i, j] = code_of(f.yade_name), swapped
-        phys_type = np.array([registry.PHYS_TYPES[s.produces].code for s in functors("phys")], np.int32)
-
-        gtypes, ptypes = list(registry.GEOM_TYPES), list(registry.PHYS_TYPES)
-        law_code = np.full((len(gtypes), len(ptypes)), -1, np.int32)
-        for i, g in enumerate(gtypes):
-            for j, p in enumerate(ptypes):
-                chain_g, chain_p = registry.geom_ancestry(g), registry.phys_ancestry(p)
-                best, best_d = None, None
-                for law in self.lawDispatcher.functors:
-                    tg, tp = law.spec.types
-                    if tg in chain_g and tp in chain_p:
-                        d = chain_g.index(tg) + chain_p.index(tp)
-                        if best_d is None or d < best_d:
-                            best, best_d = law, d
-                if best is not None:
-                    law_code[i, j] = best.code
-        return dict(geom_code=geom_code, geom_swap=geom_swap, geom_type=geom_type, pair_ok=pair_ok,
-                    phys_code=phys_code, phys_swap=phys_swap, phys_type=phys_type, law_code=law_code)
+        """Dispatch tables from the listed functors (see :func:`interaction_stage`); fresh arrays."""
+        key = tuple(tuple(type(f) for f in d.functors) for d in (self.geomDispatcher, self.physDispatcher,
+                                                                   self.lawDispatcher))
+        return {name: a.copy() for name, a in _dispatch_tables(*key, len(registry.MATERIALS)).items()}
 
     def params(self, scene, engines) -> tuple:
         t = self.tables(scene)
@@ -205,6 +168,54 @@ class InteractionLoop(GlobalEngine):
         the energy columns while O.trackEnergy."""
         groups = {g for d in (self.physDispatcher, self.lawDispatcher) for f in d.functors for g in f.spec.history}
         return (groups | {"energy"}) if scene.track_energy else groups
+
+
+@functools.lru_cache(maxsize=64)
+def _dispatch_tables(geoms, physs, laws, nmaterials) -> dict:
+    """The dispatch tables of an InteractionLoop listing functors of the classes ``geoms``, ``physs`` and
+    ``laws`` (they depend on nothing else: the registry is fixed once the kernels are imported; ``nmaterials``
+    keys the material classes registered). Computed once per combination: the runner asks at every chunk."""
+    geom_code = np.full((NKINDS, NKINDS), -1, np.int32)
+    geom_swap = np.zeros((NKINDS, NKINDS), np.uint8)
+    for f in geoms:
+        a, b = f.spec.types
+        geom_code[a, b], geom_swap[a, b] = code_of(f.spec.yade_name), 0
+        if geom_code[b, a] < 0:
+            geom_code[b, a], geom_swap[b, a] = code_of(f.spec.yade_name), 1
+    pair_ok = np.zeros((NKINDS, NKINDS), np.int8)
+    for spec in functors("geom"):
+        a, b = spec.types
+        pair_ok[a, b] = pair_ok[b, a] = 2
+    pair_ok[geom_code >= 0] = 1
+    geom_type = np.array([registry.GEOM_TYPES[s.produces].code for s in functors("geom")], np.int32)
+
+    mats = list(registry.MATERIALS)
+    phys_code = np.full((len(mats), len(mats)), -1, np.int32)
+    phys_swap = np.zeros((len(mats), len(mats)), np.uint8)
+    for i, m1 in enumerate(mats):
+        for j, m2 in enumerate(mats):
+            f, swapped = registry.best_match([p.spec for p in physs],
+                                             registry.material_ancestry(m1), registry.material_ancestry(m2))
+            if f is not None:
+                phys_code[i, j], phys_swap[i, j] = code_of(f.yade_name), swapped
+    phys_type = np.array([registry.PHYS_TYPES[s.produces].code for s in functors("phys")], np.int32)
+
+    gtypes, ptypes = list(registry.GEOM_TYPES), list(registry.PHYS_TYPES)
+    law_code = np.full((len(gtypes), len(ptypes)), -1, np.int32)
+    for i, g in enumerate(gtypes):
+        for j, p in enumerate(ptypes):
+            chain_g, chain_p = registry.geom_ancestry(g), registry.phys_ancestry(p)
+            best, best_d = None, None
+            for law in laws:
+                tg, tp = law.spec.types
+                if tg in chain_g and tp in chain_p:
+                    d = chain_g.index(tg) + chain_p.index(tp)
+                    if best_d is None or d < best_d:
+                        best, best_d = law, d
+            if best is not None:
+                law_code[i, j] = code_of(best.spec.yade_name)
+    return dict(geom_code=geom_code, geom_swap=geom_swap, geom_type=geom_type, pair_ok=pair_ok,
+                phys_code=phys_code, phys_swap=phys_swap, phys_type=phys_type, law_code=law_code)
 
 
 class NewtonIntegrator(GlobalEngine):

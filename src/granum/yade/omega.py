@@ -291,6 +291,7 @@ class Omega:
         finally:
             self._running = False
             self._stop = False
+            scene.forget_record()
             if progress is not None:
                 progress.finish(scene.iter - first)
 
@@ -345,6 +346,7 @@ class Omega:
             self._runner.advance(1)
         finally:
             self._running = False
+            self._scene.forget_record()
 
     # ---- scenes --------------------------------------------------------------------------
     def reset(self) -> None:
