@@ -14,7 +14,7 @@ import pytest
 KERNELS = '''
 import numpy as np
 from granum._jit import jit
-from granum._linking import call_entry
+from granum._linking import entry_call
 
 
 @jit
@@ -47,7 +47,7 @@ def part_b(a):
 
 @jit
 def whole(a):   # calls its parts by symbol: their code stays in their own entry points
-    return call_entry(part_a, (a,)) + call_entry(part_b, (a,))
+    return entry_call(part_a, (a,)) + entry_call(part_b, (a,))
 '''
 
 
@@ -163,3 +163,23 @@ def test_dispatch_is_generated_for_the_functors_a_table_lists():
         dispatch.functor_set("shape", [0])
     with pytest.raises(TypeError, match="a static value is a tuple"):
         Static(["functors"])
+
+
+def test_the_step_loops_type_key_separates_what_numba_types_apart():
+    """The runner keeps one compiled step loop per key of its arguments: values of different Numba types
+    must get different keys, values of the same type the same key."""
+    import numba
+    import numpy as np
+
+    from granum.engines.runner import _type_key
+    from granum.kernels.static import Static
+
+    readonly = np.zeros(3)
+    readonly.flags.writeable = False
+    values = [np.zeros(3), np.zeros(3, np.float32), np.zeros((3, 2))[:, 0], np.zeros((2, 3)), readonly,
+              np.zeros((2, 3), order="F"), Static(("cell", False)), Static(("cell", True)), [1, 2], [1.0, 2.0],
+              1, 1.0, True, None, (np.zeros(3), 1), (np.zeros(3), 1.0)]
+    for a in values:
+        for b in values:
+            assert (_type_key(a) == _type_key(b)) == (numba.typeof(a) == numba.typeof(b)), (a, b)
+    assert _type_key(np.ones(5)) == _type_key(np.zeros(7))

@@ -197,3 +197,53 @@ def test_timing_enabled_times_every_engine(yade, capsys):
     assert [line.split()[0] for line in out[2:]] == ["ForceResetter", "InsertionSortCollider", "InteractionLoop",
                                                       "NewtonIntegrator", '"pr"', "TOTAL"]
     assert sum(float(line.split()[-1].rstrip("%")) for line in out[2:-1]) == pytest.approx(100, abs=0.05)
+
+
+def _two_spheres_sliding(y):
+    """A sphere pressed by gravity (along -x) onto a fixed one, sliding on it."""
+    y.O.bodies.append([y.sphere((0, 0, 0), 0.5, fixed=True), y.sphere((0.999, 0, 0), 0.5)])
+    y.O.bodies[1].state.vel = (0.0, 0.2, 0.05)
+    y.O.dt = 0.2 * y.PWaveTimeStep()
+
+
+def _sphere_loop(y, geoms):
+    return [y.ForceResetter(), y.InsertionSortCollider([y.Bo1_Sphere_Aabb(), y.Bo1_Facet_Aabb()]),
+            y.InteractionLoop(geoms, [y.Ip2_FrictMat_FrictMat_FrictPhys()], [y.Law2_ScGeom_FrictPhys_CundallStrack()]),
+            y.NewtonIntegrator(damping=0.1, gravity=(-10, 0, 0))]
+
+
+def test_contacts_keep_their_functors_when_the_engine_list_changes(yade):
+    """A contact created by a functor that a new engine list no longer lists goes on with that functor (the
+    dispatch compiled for the new list includes the functors of the live contacts): the run equals one in
+    which the list never changed."""
+    y = yade
+    _two_spheres_sliding(y)
+    y.O.engines = _sphere_loop(y, [y.Ig2_Sphere_Sphere_ScGeom()])
+    y.O.run(400, True)
+    reference = (tuple(y.O.bodies[1].state.pos), tuple(y.O.interactions[0, 1].phys.shearForce))
+    y.O.reset()
+    _two_spheres_sliding(y)
+    y.O.engines = _sphere_loop(y, [y.Ig2_Sphere_Sphere_ScGeom()])
+    y.O.run(200, True)
+    y.O.engines = _sphere_loop(y, [y.Ig2_Facet_Sphere_ScGeom()])   # sphere+sphere no longer listed
+    y.O.run(200, True)
+    assert np.linalg.norm(reference[1]) > 0, "the spheres did not slide"
+    assert (tuple(y.O.bodies[1].state.pos), tuple(y.O.interactions[0, 1].phys.shearForce)) == reference
+
+
+def test_scene_record_follows_added_bodies(yade):
+    """The record of the scene's arrays is kept between chunks while its arrays stay the same: bodies added
+    within the tables' capacity are seen through it, more bodies make a new one; every body falls."""
+    y = yade
+    y.O.engines = frict_engines(y, gravity=(0, 0, -10))
+    y.O.bodies.append(y.sphere((0, 0, 0), 0.5))
+    y.O.dt = 1e-3
+    scene = y.O._scene
+    first = scene.arrays()
+    assert scene.arrays() is first
+    y.O.bodies.append(y.sphere((3, 0, 0), 0.5))
+    assert scene.arrays() is first          # same storage: the body count is read from the scene's scalars
+    y.O.bodies.append([y.sphere((3 * k, 3, 0), 0.5) for k in range(100)])
+    assert scene.arrays() is not first      # the tables grew
+    y.O.run(10, True)
+    assert all(b.state.vel[2] < 0 for b in y.O.bodies)

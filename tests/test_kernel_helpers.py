@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from granum.kernels.copy import copy_items, copy_row, copy_rows, set_row
+from granum.kernels.copy import copy_items, copy_row, copy_rows, copy_to_row
 from granum.kernels.sorting import argsort_keys, lower_bound, median
 
 
@@ -47,7 +47,7 @@ def test_copies_equal_slice_assignment():
     dst1 = np.full(12, -1)
     copy_items(dst1, src1, 7)
     assert (dst1[:7] == src1[:7]).all() and (dst1[7:] == -1).all()
-    set_row(dst2, 6, np.arange(5.0))
+    copy_to_row(dst2, 6, np.arange(5.0))
     assert (dst2[6] == np.arange(5.0)).all()
     copy_row(dst2, 7, 0)
     assert (dst2[7] == dst2[0]).all()

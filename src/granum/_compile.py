@@ -9,16 +9,21 @@ them. A later run with another engine list finds the parts in the cache.
 
 The child only compiles and writes the cache; it runs no kernel and exits without
 running Python's exit handlers. If it fails or stops making progress, the parent
-compiles what is missing itself, so the outcome never depends on the child. Forking
-is used on Linux only, with two or more cores, and can be switched off with
-``GRANUM_COMPILE_JOBS=1``.
+compiles what is missing itself, so the outcome never depends on the child. The two
+never write the same cache file: each part is compiled by one of them, and the
+functions below the parts are link-only, never cached on their own
+(:mod:`granum._linking`). Forking is used on Linux only, with two or more cores, when
+no other thread runs Python, and can be switched off with ``GRANUM_COMPILE_JOBS=1``
+(larger values mean 2).
 """
 
 from __future__ import annotations
 
 import os
+import signal
 import sys
 import tempfile
+import threading
 import time
 import warnings
 
@@ -68,6 +73,7 @@ def _claim(folder: str, k: int) -> bool:
 
 
 def _compile(dispatcher, signatures) -> None:
+    """Compile ``dispatcher`` for each argument-type tuple of ``signatures`` (or load it from the cache)."""
     for sig in signatures:
         dispatcher.compile(sig)
 
@@ -77,7 +83,7 @@ def compile_parts(parts: list[tuple[object, list[tuple]]]) -> None:
     on up to :func:`processes` processes. The caller holds the compile lock (:func:`granum._jit.compile_lock`)."""
     todo = [(d, [s for s in sigs if not _linking.load_cached(d, s)]) for d, sigs in parts]
     todo = sorted(((d, s) for d, s in todo if s), key=lambda p: -reach(p[0]))
-    if len(todo) < 2 or processes() < 2:
+    if processes() < 2 or len(todo) < 2 or not _fork_is_safe():
         for d, sigs in todo:
             _compile(d, sigs)
         return
@@ -106,21 +112,33 @@ def compile_parts(parts: list[tuple[object, list[tuple]]]) -> None:
         _compile(d, sigs)
 
 
+def _fork_is_safe() -> bool:
+    """Whether no thread but this one and the main one runs Python: a lock another thread held when the
+    process forked would stay locked in the child (Jupyter's kernel threads, a user's). The main thread
+    waiting for a background ``O.run`` holds none."""
+    others = threading.active_count() - 1
+    return others == 0 or (others == 1 and threading.current_thread() is not threading.main_thread())
+
+
 def _wait(pid: int, limit: float) -> None:
     """Wait up to ``limit`` seconds for child ``pid`` to exit."""
     deadline = time.monotonic() + limit
-    while time.monotonic() < deadline:
-        done, _ = os.waitpid(pid, os.WNOHANG)
-        if done:
-            return
-        time.sleep(0.02)
+    try:
+        while time.monotonic() < deadline:
+            if os.waitpid(pid, os.WNOHANG)[0]:
+                return
+            time.sleep(0.02)
+    except ChildProcessError:   # reaped already (SIGCHLD ignored)
+        return
 
 
 def _stop(pid: int) -> None:
-    """End child ``pid`` if it still runs, and reap it."""
+    """End child ``pid`` if it still runs, and reap it. Killing it never corrupts the cache: Numba writes
+    each cache file to a temporary name and renames it, and an index entry without its data file is a
+    miss."""
     try:
         if os.waitpid(pid, os.WNOHANG)[0] == 0:
-            os.kill(pid, 9)
+            os.kill(pid, signal.SIGKILL)
             os.waitpid(pid, 0)
     except ChildProcessError:
         pass

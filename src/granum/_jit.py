@@ -147,33 +147,37 @@ def compile_lock():
 _warm: set[int] = set()
 
 
-def call(fn, *args):
-    """Call compiled ``fn`` from Python, compiling it (or loading it from the cache) under
-    :func:`compile_lock` the first time. Only the compilation holds the lock: a long first call
-    must not keep other processes (the jobs of a batch) from running their own kernels."""
-    if id(fn) not in _warm:
+def _compiled(fn, args) -> tuple:
+    """Compile ``fn`` for the types of ``args`` (or load it from the cache) under :func:`compile_lock`, unless
+    it is compiled already; the argument types. Only the compilation holds the lock: a long first call must
+    not keep other processes (the jobs of a batch) from running their own kernels."""
+    sig = tuple(fn.typeof_pyval(a) for a in args)
+    if sig not in fn.overloads:
         with compile_lock():
-            fn.compile(tuple(fn.typeof_pyval(a) for a in args))
+            fn.compile(sig)
+    return sig
+
+
+def call(fn, *args):
+    """Call compiled ``fn`` from Python, compiled (or loaded from the cache) the first time."""
+    if id(fn) not in _warm:
+        _compiled(fn, args)
         _warm.add(id(fn))
     return fn(*args)
 
 
 def entry(fn, *args):
-    """The entry point of compiled ``fn`` for the types of ``args``, compiled (or loaded from the cache) under
-    :func:`compile_lock` if new: a C function that converts such arguments without typing them. Numba's
-    dispatcher types an argument it cannot fingerprint in C (a tuple holding a static value, as a plan's
-    parameters do) in Python at every call, which cost milliseconds per call."""
-    sig = tuple(fn.typeof_pyval(a) for a in args)
-    if sig not in fn.overloads:
-        with compile_lock():
-            fn.compile(sig)
-    return fn.overloads[sig].entry_point
+    """The entry point of compiled ``fn`` for the types of ``args`` (compiled if new): a C function that
+    converts such arguments without typing them. Numba's dispatcher types an argument it cannot fingerprint
+    in C (a tuple holding a static value, as a plan's parameters do) in Python at every call, which cost
+    milliseconds per call."""
+    return fn.overloads[_compiled(fn, args)].entry_point
 
 
 def entry_points(calls) -> list[str]:
     """Load or compile the entry points ``calls`` (``(dispatcher, [argument values, ...])``), those missing from
     the disk cache on two processes (:mod:`granum._compile`); their symbols, for callers that call them by
-    symbol (:func:`granum._linking.call_entry`)."""
+    symbol (:func:`granum._linking.entry_call`)."""
     parts = [(d, [tuple(d.typeof_pyval(a) for a in values) for values in argument_lists])
              for d, argument_lists in calls]
     with compile_lock():

@@ -27,19 +27,24 @@ A callee that already has an ordinary compilation for the same types (it was cal
 Python, or is in the disk cache) is linked from that one instead. Recursion is not supported
 on the link-only path: a function that calls itself is compiled as usual.
 
-**Calls by symbol.** :func:`call_entry` calls an entry point without linking its library: the
+**Calls by symbol.** :func:`entry_call` calls an entry point without linking its library: the
 caller only declares the function, and the JIT resolves the symbol to the machine code already
 loaded. The step loop calls its stages so, and compiles in a fraction of a second instead of
 optimising and translating the whole program once more. The entry point must be loaded before
 the caller's machine code (the runner loads a plan's stages first), under the symbol the caller
 was compiled against (:func:`entry_symbol`; the step loop's source names the symbols it uses, so
-a recompiled stage gets a new step loop).
+a recompiled stage gets a new step loop). A cached caller whose callees are not loaded would
+crash the process: only the runner creates such callers, and it always loads the callees first.
+
+Link-only compilation applies to every ``@overload`` implementation compiled in the process
+(:func:`_link_only_overloads`), granum's or not: they are only ever called from compiled code,
+and their results are the same.
 """
 
 from __future__ import annotations
 
 from numba import types
-from numba.core import cgutils, compiler, sigutils, typing
+from numba.core import cgutils, compiler, errors, sigutils, typing
 from numba.core import event as numba_event
 from numba.core.codegen import JITCodeLibrary
 from numba.core.compiler_lock import global_compiler_lock
@@ -82,7 +87,8 @@ class _LinkOnlyKey:
 
 #: Environments of link-only functions by symbol name. Kept alive here: the entry point that links
 #: such a function sets its environment pointer when it is translated (:func:`_set_environments`), and
-#: Numba's cache stores the environments an entry point refers to only while they are alive.
+#: Numba's cache stores the environments an entry point refers to only while they are alive. One per
+#: link-only compilation of the process (a few hundred), each small.
 _ENVIRONMENTS: dict = {}
 
 
@@ -115,6 +121,7 @@ def load_cached(dispatcher, args: tuple) -> bool:
         cres = dispatcher._cache.load_overload(args, dispatcher.targetctx)
         if cres is None:
             return False
+        dispatcher._cache_hits[args] += 1
         dispatcher.targetctx.insert_user_function(cres.entry_point, cres.fndesc, [cres.library])
         dispatcher.add_overload(cres)
         return True
@@ -126,16 +133,17 @@ def entry_symbol(dispatcher, args: tuple) -> str:
 
 
 @intrinsic
-def call_entry(typingctx, fn, args):
-    """``fn(*args)`` through the symbol of ``fn``'s entry point for the types of ``args`` (a tuple), which is
-    compiled here if it is neither in memory nor in the disk cache. Compiled code only."""
+def entry_call(typingctx, fn, args):
+    """``fn(*args)`` through the symbol of ``fn``'s entry point for the types of ``args`` (a tuple), which
+    must be loaded already (:func:`granum._jit.entry_points`): it is never compiled here, so that the caller
+    refers only to symbols its creator loaded first. Compiled code only."""
     if not isinstance(fn, types.Dispatcher) or not isinstance(args, types.BaseTuple):
         return None
     argtypes = tuple(args.types)
     dispatcher = fn.dispatcher
-    with global_compiler_lock:
-        if not load_cached(dispatcher, argtypes):
-            dispatcher.compile(argtypes)
+    if argtypes not in dispatcher.overloads:
+        raise errors.TypingError(f"entry_call: {dispatcher.py_func.__qualname__} has no entry point loaded for "
+                                 f"{argtypes}; load it first (granum._jit.entry_points)")
     fndesc = dispatcher.overloads[argtypes].fndesc
 
     def codegen(context, builder, sig, llargs):
@@ -196,7 +204,7 @@ class _TranslatedLibraries(numba_event.Listener):
     """After every compilation of an entry point, set the environments of the link-only code it holds."""
 
     def on_start(self, event):
-        pass
+        pass   # (required by the Listener interface) the environments exist only once a compilation ends
 
     def on_end(self, event):
         data = event.data or {}

@@ -28,7 +28,18 @@ from granum.core.arrays import (
     SCENE,
 )
 from granum.core.bodies import ShapeKind, new_body_table
-from granum.core.contacts import C_COLLIDE, new_contact_arrays, resize_for_bodies, with_images
+from granum.core.contacts import (
+    C_COLLIDE,
+    C_CONTACTS,
+    FLAG_ALIVE,
+    I_FLAGS,
+    I_GEOM,
+    I_LAW,
+    I_PHYS,
+    new_contact_arrays,
+    resize_for_bodies,
+    with_images,
+)
 from granum.core.shapes import CLUMP_MEMBER_COLUMNS, new_shape_tables
 from granum.core.table import Table
 from granum.physics import registry
@@ -105,6 +116,7 @@ class Scene(BodyStore):
         self.detection_key = ""
         self._mat_cache = None
         self._record = None   # (ids of the arrays, the record made of them): see arrays()
+        self._contact_functors: dict = {}   # see contact_functors()
 
     # ---- clock ----------------------------------------------------------------------
     @property
@@ -158,6 +170,21 @@ class Scene(BodyStore):
         return self.bodies.count
 
     # ---- changes ----------------------------------------------------------------------
+    def note_contact_functors(self) -> None:
+        """Record the functor codes of the live contacts (when a new engine list takes over: see
+        :meth:`contact_functors`)."""
+        C = self.contacts
+        n = int(C.ctr[C_CONTACTS])
+        live = C.con_i[:n][(C.con_i[:n, I_FLAGS] & FLAG_ALIVE) != 0]
+        self._contact_functors = {role: tuple(int(c) for c in np.unique(live[:, col]))
+                                  for role, col in (("geom", I_GEOM), ("phys", I_PHYS), ("law", I_LAW))}
+
+    def contact_functors(self, role: str) -> tuple:
+        """Codes of the ``role`` functors that live contacts used when the engine list last changed. A contact
+        keeps the functors it was created with, so the dispatch compiled for a plan includes them; contacts
+        created since came from the listed functors."""
+        return self._contact_functors.get(role, ())
+
     def needs_collider(self) -> None:
         """Make the collider run at the next step (bodies or shapes changed)."""
         self.contacts.ctr[C_COLLIDE] = 1

@@ -74,16 +74,20 @@ def make_class(spec: registry.Functor) -> type:
 CLASSES = {name: make_class(spec) for name, spec in registry.FUNCTORS.items()}
 
 
-def functor_table(role: str, instances) -> tuple:
+def functor_table(role: str, instances, more_codes=()) -> tuple:
     """The functor table of ``role`` that kernels dispatch through (:mod:`granum.kernels.dispatch`):
-    the set of the given instances' codes, and their parameters (row = functor code)."""
+    the set of the given instances' codes and ``more_codes``, and their parameters (row = functor code;
+    the functors of ``more_codes`` not among ``instances`` have their default parameters)."""
     specs = functors(role)
     width = max([len(s.params) for s in specs] + [1])
     prm = np.zeros((len(specs), width))
+    for code in more_codes:   # with their default parameters
+        values = CLASSES[specs[code].yade_name]().numeric_params()
+        prm[code, : len(values)] = values
     for f in instances:
         values = f.numeric_params()
         prm[f.code, : len(values)] = values
-    return functor_set(role, [f.code for f in instances]), prm
+    return functor_set(role, [f.code for f in instances] + list(more_codes)), prm
 
 
 def check_role(f, role: str, where: str) -> None:

@@ -155,12 +155,14 @@ class InteractionLoop(GlobalEngine):
 
     def params(self, scene, engines) -> tuple:
         t = self.tables(scene)
-        geom_tab = functor_table("geom", self.geomDispatcher.functors)
+        geom_tab = functor_table("geom", self.geomDispatcher.functors, scene.contact_functors("geom"))
         # pairs skip detection on budgets computed with these functors (see interaction.detect_pair)
         scene.detection_uses(t["geom_code"].tobytes() + t["geom_swap"].tobytes() + geom_tab[1].tobytes())
         return (t["geom_code"], t["geom_swap"], geom_tab, t["geom_type"],
-                t["phys_code"], t["phys_swap"], functor_table("phys", self.physDispatcher.functors), t["phys_type"],
-                t["law_code"], functor_table("law", self.lawDispatcher.functors), t["pair_ok"],
+                t["phys_code"], t["phys_swap"], functor_table("phys", self.physDispatcher.functors,
+                                                              scene.contact_functors("phys")), t["phys_type"],
+                t["law_code"], functor_table("law", self.lawDispatcher.functors, scene.contact_functors("law")),
+                t["pair_ok"],
                 contact_width(self.contact_groups(scene)))
 
     def contact_groups(self, scene) -> set[str]:

@@ -17,6 +17,7 @@ from __future__ import annotations
 import importlib
 import time
 
+import numba
 import numpy as np
 
 from granum._jit import call, entry, entry_points
@@ -33,6 +34,7 @@ from granum.core.contacts import (
     STATUS_NO_PHYS,
     STATUS_NONFINITE,
 )
+from granum.core.records import Record
 from granum.engines.base import PeriodicEngine
 from granum.kernels import steploop
 from granum.kernels.cell import step_begin, step_end
@@ -80,12 +82,12 @@ class Plan:
         The first time for the types of the scene, contacts and parameters, the functions the loop calls
         (the stages, the cell's step boundaries) are loaded from the disk cache or compiled, on two processes
         (:func:`granum._jit.entry_points`), and the loop is generated to call their symbols. Its entry point
-        is kept per types (the other arguments' types never change): calls skip Numba's typing.
+        is kept per argument types: calls skip Numba's typing.
         """
-        S, C, PP = args[2:5]
-        key = (_type_key(S), _type_key(C), _type_key(PP))
+        key = _type_key(args)
         loop = self._loops.get(key)
         if loop is None:
+            S, C, PP = args[2:5]
             calls: dict = {step_begin: [(S,)], step_end: [(S,)]}
             for e, P in zip(self.compiled, PP, strict=True):
                 module, name = e.stage.split(":")
@@ -96,15 +98,21 @@ class Plan:
 
 
 def _type_key(value):
-    """What determines the Numba type of a kernel argument (records, arrays, scalars, static values,
-    tuples of them), computed faster than the type itself: the step loop is compiled per type."""
+    """What determines the Numba type of a kernel argument, computed faster than the type itself for
+    records, arrays, Python scalars, static values and tuples of them (anything else is typed by Numba):
+    the step loop is compiled per type."""
     if isinstance(value, tuple):
         return tuple(_type_key(v) for v in value)
     if isinstance(value, np.ndarray):
-        return value.dtype.str, value.ndim, value.flags.c_contiguous, value.flags.f_contiguous, value.flags.writeable
+        f = value.flags
+        return value.dtype.str, value.ndim, f.c_contiguous, f.f_contiguous, f.writeable, f.aligned
     if isinstance(value, Static):
         return value.value
-    return getattr(value, "_type", type(value))
+    if isinstance(value, Record):
+        return value._type
+    if value is None or type(value) in (bool, int, float):
+        return type(value)
+    return numba.typeof(value)
 
 
 def plan_key(engines) -> tuple:
@@ -128,6 +136,7 @@ class Runner:
         engines = self.scene.engines
         if self._plan is None or self._plan.key != plan_key(engines):
             self._plan = Plan(engines)
+            self.scene.note_contact_functors()
         return self._plan
 
     def params(self, plan: Plan) -> tuple:

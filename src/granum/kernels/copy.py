@@ -27,7 +27,7 @@ def copy_rows(dst, src, n):
 
 
 @jit
-def set_row(a, i, row):
+def copy_to_row(a, i, row):
     """``a[i, :] = row`` for a 2-D array and a 1-D array ``row``."""
     for j in range(a.shape[1]):
         a[i, j] = row[j]

@@ -30,7 +30,7 @@ from __future__ import annotations
 import numpy as np
 
 from granum._jit import jit
-from granum.kernels.copy import copy_items, copy_rows, set_row
+from granum.kernels.copy import copy_items, copy_rows, copy_to_row
 
 __all__ = ["clump_fill", "inverse_cdf", "inverse_cdf_many", "psd_table", "rsa_fill"]
 
@@ -201,7 +201,7 @@ def _grid_new(pos0, rad0, cap, lo, inv_w, nc, per):
 @jit
 def _grid_put(pos, rad, nxt, head, i, p, r, lo, inv_w, nc, per):
     """Store sphere ``i`` (centre ``p``, radius ``r``) and link it into its grid cell."""
-    set_row(pos, i, p)
+    copy_to_row(pos, i, p)
     rad[i] = r
     c = _cell_of(pos[i], lo, inv_w, nc, per)
     nxt[i] = head[c]
