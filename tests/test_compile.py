@@ -55,7 +55,8 @@ def _run(folder, script: str, **env) -> str:
     """Run ``script`` in ``folder`` (created) with the module above importable as ``kern`` and a cache
     directory of its own; its standard output."""
     folder.mkdir(exist_ok=True)
-    (folder / "kern.py").write_text(KERNELS)
+    if not (folder / "kern.py").exists():   # rewriting it would change its time stamp: Numba's cache key
+        (folder / "kern.py").write_text(KERNELS)
     environ = {**os.environ, "GRANUM_CACHE_DIR": str(folder / "cache"), **env}
     out = subprocess.run([sys.executable, "-c", textwrap.dedent(script)], cwd=folder, env=environ, check=True,
                          capture_output=True, text=True, timeout=600)
