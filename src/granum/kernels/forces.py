@@ -13,21 +13,17 @@ from granum.physics.vec import cross, load3, sub
 
 
 @jit
-def reset_body(i, S, perm_f, perm_t):
-    """Force and torque of body ``i`` back to the permanent ones; ``perm_f``/``perm_t``: whether
-    there are any (``perm_force``/``perm_torque`` are lazy columns, 0 rows until a script sets one)."""
-    for k in range(3):
-        S.force[i, k] = S.perm_force[i, k] if perm_f else 0.0
-        S.torque[i, k] = S.perm_torque[i, k] if perm_t else 0.0
-
-
-@jit
 def reset_block(b, S, nb):
-    """Bodies of block ``b``."""
-    perm_f = S.perm_force.shape[0] > 0
-    perm_t = S.perm_torque.shape[0] > 0
+    """Forces and torques of the bodies of block ``b`` back to the permanent ones (``perm_force`` and
+    ``perm_torque`` are lazy columns: 0 rows until a script sets one). The columns are read into locals
+    once: ``S`` is a raw view, and a store could otherwise make the loop reload them from the record."""
+    force, torque, perm_force, perm_torque = S.force, S.torque, S.perm_force, S.perm_torque
+    perm_f = perm_force.shape[0] > 0
+    perm_t = perm_torque.shape[0] > 0
     for i in range(b * BLOCK, min(nb, (b + 1) * BLOCK)):
-        reset_body(i, S, perm_f, perm_t)
+        for k in range(3):
+            force[i, k] = perm_force[i, k] if perm_f else 0.0
+            torque[i, k] = perm_torque[i, k] if perm_t else 0.0
 
 
 def _reset(S, nb):
