@@ -49,21 +49,24 @@ def contact_stress(S, C, out):
     stiff = np.zeros(3)
     fsum = 0.0
     nc = 0
+    # columns read once (a field read from the record counts a reference); f and the branch are
+    # tuples, not arrays: no allocation per contact
+    con_i, con_f, pos = C.con_i, C.con_f, S.pos
     for c in range(C.ctr[C_CONTACTS]):
-        if not C.con_i[c, I_FLAGS] & FLAG_ALIVE:
+        if not con_i[c, I_FLAGS] & FLAG_ALIVE:
             continue
-        i1 = C.con_i[c, I_ID1]
-        i2 = C.con_i[c, I_ID2]
-        f = np.empty(3)
-        br = np.empty(3)
-        for a in range(3):
-            shift = h[a, 0] * C.con_i[c, I_CELL] + h[a, 1] * C.con_i[c, I_CELL + 1] + h[a, 2] * C.con_i[c, I_CELL + 2]
-            f[a] = C.con_f[c, F_FN + a] + C.con_f[c, F_FS + a]
-            br[a] = S.pos[i1, a] - S.pos[i2, a] - shift
+        i1 = con_i[c, I_ID1]
+        i2 = con_i[c, I_ID2]
+        cell = (con_i[c, I_CELL], con_i[c, I_CELL + 1], con_i[c, I_CELL + 2])
+        f = (con_f[c, F_FN] + con_f[c, F_FS], con_f[c, F_FN + 1] + con_f[c, F_FS + 1],
+             con_f[c, F_FN + 2] + con_f[c, F_FS + 2])
+        br = (pos[i1, 0] - pos[i2, 0] - (h[0, 0] * cell[0] + h[0, 1] * cell[1] + h[0, 2] * cell[2]),
+              pos[i1, 1] - pos[i2, 1] - (h[1, 0] * cell[0] + h[1, 1] * cell[1] + h[1, 2] * cell[2]),
+              pos[i1, 2] - pos[i2, 2] - (h[2, 0] * cell[0] + h[2, 1] * cell[1] + h[2, 2] * cell[2]))
         for a in range(3):
             for b in range(3):
                 sig[a, b] += f[a] * br[b]
-            stiff[a] += C.con_f[c, F_KN] * (C.con_f[c, F_NORMAL + a] * br[a]) ** 2
+            stiff[a] += con_f[c, F_KN] * (con_f[c, F_NORMAL + a] * br[a]) ** 2
         fsum += math.sqrt(f[0] ** 2 + f[1] ** 2 + f[2] ** 2)
         nc += 1
     for a in range(3):
@@ -74,9 +77,10 @@ def contact_stress(S, C, out):
     # unbalanced force: mean resultant on free bodies over the mean contact force
     res = 0.0
     nfree = 0
+    alive, blocked, clump_id, force = S.alive, S.blocked, S.clump_id, S.force
     for i in range(S.iscal[I_NBODIES]):
-        if S.alive[i] and S.blocked[i] != DOF_ALL and (S.clump_id[i] < 0 or S.clump_id[i] == i):
-            res += math.sqrt(S.force[i, 0] ** 2 + S.force[i, 1] ** 2 + S.force[i, 2] ** 2)
+        if alive[i] and blocked[i] != DOF_ALL and (clump_id[i] < 0 or clump_id[i] == i):
+            res += math.sqrt(force[i, 0] ** 2 + force[i, 1] ** 2 + force[i, 2] ** 2)
             nfree += 1
     out[O_UNBALANCED] = (res / nfree) / (fsum / nc) if nc > 0 and nfree > 0 and fsum > 0 else math.nan
     return vol

@@ -50,12 +50,14 @@ def gravity_stage(S, C, P):
     gravity, mask = P
     nb = S.iscal[I_NBODIES]
     dt = S.scal[S_DT]
+    # columns read once: a field read from the record counts a reference, and a store would reload it
+    alive, body_mask, mass, vel, force = S.alive, S.mask, S.mass, S.vel, S.force
     work = 0.0
     for i in range(nb):
-        if S.alive[i] and (mask == 0 or S.mask[i] & mask) and S.mass[i] > 0.0:
+        if alive[i] and (mask == 0 or body_mask[i] & mask) and mass[i] > 0.0:
             for k in range(3):
-                S.force[i, k] += S.mass[i] * gravity[k]
-                work -= S.mass[i] * gravity[k] * S.vel[i, k] * dt
+                force[i, k] += mass[i] * gravity[k]
+                work -= mass[i] * gravity[k] * vel[i, k] * dt
     if S.iscal[I_TRACK_ENERGY]:
         S.energy[E_GRAV_WORK] += work
         S.energy_set[E_GRAV_WORK] = 1
