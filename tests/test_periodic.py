@@ -77,6 +77,50 @@ def test_contacts_across_the_boundary_have_the_right_geometry(yade):
     assert yade.O.forces.f(0)[0] > 0 and yade.O.forces.f(1)[0] < 0
 
 
+def test_no_contact_is_missed_in_a_deforming_cell(yade):
+    """A periodic gas in a cell that shrinks and shears: at every step the geometric contacts over the
+    images are exactly the real interactions, though the collider seldom runs (pair budgets include the
+    motion of the images with the cell)."""
+    from granum.core.contacts import C_COLLIDER_RUNS
+
+    O = yade.O
+    O.periodic = True
+    O.cell.setBox(1, 1, 1)
+    sp = yade.pack.SpherePack()
+    sp.makeCloud((0, 0, 0), (1, 1, 1), rMean=0.045, rRelFuzz=0.3, num=200, periodic=True, seed=3)
+    sp.toSimulation()
+    rng = np.random.default_rng(5)
+    for b in O.bodies:
+        b.state.vel = tuple(rng.normal(0, 1, 3))
+    O.engines = frict_engines(yade, bounds=[yade.Bo1_Sphere_Aabb()], geoms=[yade.Ig2_Sphere_Sphere_ScGeom()])
+    O.cell.velGrad = ((-1, 0.5, 0), (0, -1, 0), (0, 0, -1))
+    O.dt = 0.5 * yade.PWaveTimeStep()
+    rad = np.array([b.shape.radius for b in O.bodies])
+    iu, ju = np.triu_indices(len(rad), 1)
+    near = np.array(list(itertools.product((-1, 0, 1), repeat=3)), float)
+    checked = crossing = 0
+    steps = 300
+    for _ in range(steps):
+        pos = np.array([b.state.pos for b in O.bodies])  # what the collider and InteractionLoop see
+        O.step()
+        H = np.asarray(O.cell.hSize)  # deformed at the start of the step, before the collider ran
+        d = pos[iu] - pos[ju]
+        k0 = np.round(d @ np.linalg.inv(H).T)  # nearest image of body j, then its neighbours
+        dist = np.linalg.norm(d[:, None, :] - (k0[:, None, :] + near[None, :, :]) @ H.T, axis=2).min(axis=1)
+        touch = dist < rad[iu] + rad[ju]
+        for a, b in zip(iu[touch], ju[touch], strict=True):
+            assert O.interactions.has(int(a), int(b), onlyReal=True), \
+                f"iter {O.iter}: spheres {a} and {b} overlap (over the images) but do not interact"
+        checked += int(touch.sum())
+        crossing += int((touch & np.any(k0 != 0, axis=1)).sum())
+        gap = {(a, b): g for a, b, g in zip(iu.tolist(), ju.tolist(), (dist - rad[iu] - rad[ju]).tolist(), strict=True)}
+        for i in O.interactions:
+            assert gap[(min(i.id1, i.id2), max(i.id1, i.id2))] <= 1e-12, f"iter {O.iter}: {i.id1, i.id2} real but apart"
+    runs = int(O._scene.contacts.ctr[C_COLLIDER_RUNS])
+    assert checked > 300 and crossing > 20, "the test must see many contacts, some through the boundary"
+    assert 3 <= runs <= steps // 5, f"the collider ran {runs} times in {steps} steps"
+
+
 def test_momentum_is_conserved_across_the_boundary(yade):
     """A periodic gas of colliding spheres without damping keeps its total momentum to rounding."""
     _cloud(yade, ((1, 0.2, 0), (0, 1, 0), (0, 0, 1)), 150, 0.04, 0.06, seed=7)

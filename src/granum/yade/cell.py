@@ -54,7 +54,7 @@ class Cell:
         s = self._scene
         s.cell_hsize[:] = h
         s.cell_ref_hsize[:] = h
-        s.cell_bound_hsize[:] = h
+        # the collider runs again; cell_bound_hsize stays the cell its pairs' budgets were measured from
         s.needs_collider()
 
     @property
