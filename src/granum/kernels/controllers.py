@@ -28,6 +28,8 @@ from granum._jit import jit
 from granum.core.arrays import I_HOOK, I_ITER, I_NBODIES, S_DT
 from granum.core.bodies import DOF_ALL
 from granum.core.contacts import C_CONTACTS, F_FN, F_FS, F_KN, F_NORMAL, FLAG_ALIVE, I_CELL, I_FLAGS, I_ID1, I_ID2
+from granum.kernels.interaction import load3_row
+from granum.physics.vec import add, load3, matvec, sub
 
 # slots of the controller's output array
 O_STRESS = 0        # 0..2 diagonal stress [Pa]
@@ -50,19 +52,15 @@ def contact_stress(S, C, out):
     fsum = 0.0
     nc = 0
     # columns read once (a field read from the record counts a reference); f and the branch are
-    # tuples, not arrays: no allocation per contact
+    # tuples, not arrays: no allocation per contact; the branch runs to body 1 from body 2's image
     con_i, con_f, pos = C.con_i, C.con_f, S.pos
     for c in range(C.ctr[C_CONTACTS]):
         if not con_i[c, I_FLAGS] & FLAG_ALIVE:
             continue
         i1 = con_i[c, I_ID1]
         i2 = con_i[c, I_ID2]
-        cell = (con_i[c, I_CELL], con_i[c, I_CELL + 1], con_i[c, I_CELL + 2])
-        f = (con_f[c, F_FN] + con_f[c, F_FS], con_f[c, F_FN + 1] + con_f[c, F_FS + 1],
-             con_f[c, F_FN + 2] + con_f[c, F_FS + 2])
-        br = (pos[i1, 0] - pos[i2, 0] - (h[0, 0] * cell[0] + h[0, 1] * cell[1] + h[0, 2] * cell[2]),
-              pos[i1, 1] - pos[i2, 1] - (h[1, 0] * cell[0] + h[1, 1] * cell[1] + h[1, 2] * cell[2]),
-              pos[i1, 2] - pos[i2, 2] - (h[2, 0] * cell[0] + h[2, 1] * cell[1] + h[2, 2] * cell[2]))
+        f = add(load3_row(con_f, c, F_FN), load3_row(con_f, c, F_FS))
+        br = sub(sub(load3(pos, i1), load3(pos, i2)), matvec(h, load3_row(con_i, c, I_CELL)))
         for a in range(3):
             for b in range(3):
                 sig[a, b] += f[a] * br[b]

@@ -134,7 +134,7 @@ def detect_block(b, S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, hits)
     bound valid for any later relative motion measured from the same reference (the motion
     between t0 and t is at most m(t) + m(t0)). Bodies moving together (a falling cluster) never
     use up their budgets. In a periodic cell body b's image sits at x_b + H k, so d_b also holds
-    (H - H0) k, H0 the cell when the collider ran (``cell_bound_hsize``): still the exact
+    H k - H0 k, H0 the cell when the collider ran (``cell_bound_hsize``): still the exact
     displacement of the image. The arrays are read into locals (borrowed: no reference counting
     per pair).
     """
@@ -142,7 +142,6 @@ def detect_block(b, S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, hits)
                                                                    C.pair_gap, C.pair_hit))
     geom_code, geom_swap, geom_tab, pair_ok = borrow((geom_code, geom_swap, geom_tab, pair_ok))
     periodic = S.iscal[I_PERIODIC] != 0
-    dh = cell_change(S) if periodic else ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
     pair_cell = borrow(C.pair_cell)
     found = 0
     for p in range(b * BLOCK, min(C.ctr[C_PAIRS], (b + 1) * BLOCK)):
@@ -154,10 +153,11 @@ def detect_block(b, S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, hits)
             dy = motion[i, 1] - motion[j, 1]
             dz = motion[i, 2] - motion[j, 2]
             if periodic and (pair_cell[p, 0] != 0 or pair_cell[p, 1] != 0 or pair_cell[p, 2] != 0):
-                k = (float(pair_cell[p, 0]), float(pair_cell[p, 1]), float(pair_cell[p, 2]))
-                dx -= dh[0][0] * k[0] + dh[0][1] * k[1] + dh[0][2] * k[2]
-                dy -= dh[1][0] * k[0] + dh[1][1] * k[1] + dh[1][2] * k[2]
-                dz -= dh[2][0] * k[0] + dh[2][1] * k[1] + dh[2][2] * k[2]
+                k = load3_row(pair_cell, p, 0)
+                img = sub(matvec(S.cell_hsize, k), matvec(S.cell_bound_hsize, k))  # the image's move with the cell
+                dx -= img[0]
+                dy -= img[1]
+                dz -= img[2]
             d2 = dx * dx + dy * dy + dz * dz
             slack = pair_gap[p] - motion[i, 3] - motion[j, 3]
             # m < budget, i.e. |d_a - d_b| < budget - w_a - w_b, compared squared: no square root per pair
@@ -167,16 +167,6 @@ def detect_block(b, S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, hits)
                 found += hit != 0
         pair_hit[p] = hit
     hits[b] = found
-
-
-@jit
-def cell_change(S):
-    """H - H0: change of the periodic cell's base vectors (rows of a 3x3 tuple) since the collider ran [m]."""
-    h = S.cell_hsize
-    h0 = S.cell_bound_hsize
-    return ((h[0, 0] - h0[0, 0], h[0, 1] - h0[0, 1], h[0, 2] - h0[0, 2]),
-            (h[1, 0] - h0[1, 0], h[1, 1] - h0[1, 1], h[1, 2] - h0[1, 2]),
-            (h[2, 0] - h0[2, 0], h[2, 1] - h0[2, 1], h[2, 2] - h0[2, 2]))
 
 
 def _detect(S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, hits):
