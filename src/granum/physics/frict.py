@@ -141,7 +141,8 @@ def law_cundall_strack(c, id1, id2, S, C, prm):
             elast += 0.5 * norm(fs) ** 2 / ks
         f[c, F_E_ELAST] = elast
         f[c, F_E_DISSIP] = dissip
-    if prm[1] != 0.0:   # sphericalBodies: YADE's radial lever arms for the torques
+    # sphericalBodies: YADE's radial lever arms for the torques (stored once: see scgeom_write)
+    if prm[1] != 0.0 and not C.con_i[c, I_FLAGS] & FLAG_RADIAL_ARMS:
         C.con_i[c, I_FLAGS] |= FLAG_RADIAL_ARMS
     return True
 

@@ -47,7 +47,9 @@ def scgeom_write(c, C, normal, pen, point, r1, r2, ratchet):
     """
     f = C.con_f
     flags = C.con_i[c, I_FLAGS]
-    C.con_i[c, I_FLAGS] = (flags | FLAG_RATCHET) if ratchet else (flags & ~FLAG_RATCHET)
+    new_flags = (flags | FLAG_RATCHET) if ratchet else (flags & ~FLAG_RATCHET)
+    if new_flags != flags:  # a store would make the row's cache line dirty, written back every step
+        C.con_i[c, I_FLAGS] = new_flags
     if flags & FLAG_NEW:
         for k in range(3):
             f[c, F_PREV_NORMAL + k] = normal[k]
