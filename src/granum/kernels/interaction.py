@@ -76,6 +76,7 @@ from granum.physics.vec import add, cross, load3, matvec, scale, sub
 GATHER_AHEAD = 4
 #: contact pools from this size [bytes of con_f] on are prefetched by the gather (larger than the caches)
 GATHER_PREFETCH_BYTES = 16 << 20
+
 FLAG_PHYS_SWAP = 8   # the physics functor is declared for (material 2, material 1)
 HIT_TOUCH = 1        # pair_hit: the pair touches and becomes a contact
 HIT_NO_FUNCTOR = 2   # pair_hit: a geometry functor exists for the shapes but is not listed
