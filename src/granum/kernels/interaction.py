@@ -584,7 +584,7 @@ def interaction_stage(S, C, P):
             compact(V)
         build_csr(V, nb)
     # a pool that caches cannot hold is read from memory: prefetch (in cache, it would only cost instructions)
-    ahead = GATHER_AHEAD if V.ctr[C_CONTACTS] * V.con_f.shape[1] * 8 >= GATHER_PREFETCH_BYTES else 0
+    ahead = GATHER_AHEAD if V.ctr[C_CONTACTS] * V.con_f.shape[1] * V.con_f.itemsize >= GATHER_PREFETCH_BYTES else 0
     if nb < PARALLEL_THRESHOLD:
         gather(R, V, nb, ahead)
     else:
