@@ -29,6 +29,37 @@ def test_free_fall_is_the_exact_leapfrog_solution(yade, damping):
     assert O.time == pytest.approx(n * 1e-4, rel=1e-12)
 
 
+@pytest.mark.parametrize("turn", [1e-7, 0.05, 0.3])
+def test_free_spin_turns_by_omega_t(yade, turn):
+    """A free sphere spinning at omega turns by |omega| t about omega: the orientation after n steps is
+    the closed-form rotation, to n rounding errors (turns per step on both sides of the 0.1 rad where
+    the rotation quaternion switches from its series to sine and cosine)."""
+    O = yade.O
+    O.bodies.append(yade.sphere((0, 0, 0), 0.1))
+    axis = np.array([1.0, -2.0, 0.5]) / math.sqrt(5.25)
+    O.dt = 1e-3
+    O.bodies[0].state.angVel = tuple(axis * turn / O.dt)
+    O.engines = frict_engines(yade)
+    n = 400
+    O.run(n, True)
+    x, y, z, w = O.bodies[0].state.ori  # YADE's component order
+    angle = (n * turn) % (2 * math.pi)
+    expected = np.r_[math.cos(angle / 2), axis * math.sin(angle / 2)]
+    got = np.r_[w, x, y, z] * np.sign(np.dot([w, x, y, z], expected))  # q and -q are one rotation
+    np.testing.assert_allclose(got, expected, rtol=0, atol=n * 4e-16)
+
+
+def test_damping_is_yades_sign_rule():
+    """NewtonIntegrator's non-viscous damping (3.5,24): a (1 - d) when a and v agree in sign, a (1 + d)
+    when they oppose, a unchanged when either is zero."""
+    from granum.kernels.newton import damp
+
+    d = 0.3
+    for a, v, expected in [(2.0, 1.0, 2.0 * (1 - d)), (-2.0, -1.0, -2.0 * (1 - d)), (2.0, -1.0, 2.0 * (1 + d)),
+                           (-2.0, 1.0, -2.0 * (1 + d)), (2.0, 0.0, 2.0), (0.0, 1.0, 0.0)]:
+        assert damp(a, v, d) == expected
+
+
 def test_elastic_collision_conserves_energy_and_momentum(yade):
     """Head-on frictional spheres without damping: momentum exact, energy error bounded by (w dt)."""
     O = yade.O

@@ -87,3 +87,24 @@ def test_prefetching_gather_gives_the_same_forces(yade):
     assert np.abs(force).max() > 0 and np.abs(torque).max() > 0
     for f, t in [stepped] + results[1:]:
         assert (f.view(np.int64) == force.view(np.int64)).all() and (t.view(np.int64) == torque.view(np.int64)).all()
+
+
+def test_rotation_quaternion_is_sine_and_cosine():
+    """quat_from_rotvec(r) = (cos(|r|/2), r sin(|r|/2)/|r|) to rounding, on both sides of the 0.1 rad below
+    which it sums Taylor series (reference in extended precision)."""
+    from granum.physics.vec import quat_from_rotvec
+
+    rng = np.random.default_rng(3)
+    angles = np.r_[np.geomspace(1e-12, 3.0, 60), 0.1 * (1 + np.linspace(-1e-6, 1e-6, 5))]
+    for angle in angles:
+        axis = rng.normal(size=3)
+        axis /= np.linalg.norm(axis)
+        r = axis * angle
+        q = np.array(quat_from_rotvec((r[0], r[1], r[2])))
+        half = np.longdouble(angle) / 2
+        rl = r.astype(np.longdouble)
+        norm = np.sqrt(np.sum(rl * rl))
+        expected = np.r_[np.cos(half), rl * np.sin(norm / 2) / norm]
+        assert abs(q[0] - expected[0]) <= 2.3e-16
+        assert np.linalg.norm(q[1:] - expected[1:]) <= 4.5e-16 * np.linalg.norm(expected[1:].astype(float))
+    assert quat_from_rotvec((0.0, 0.0, 0.0)) == (1.0, 0.0, 0.0, 0.0)

@@ -12,6 +12,9 @@ import math
 
 from granum._jit import jit
 
+#: squared rotation angle [rad^2] below which :func:`quat_from_rotvec` uses its series (|r| < 0.1 rad)
+ROTVEC_SERIES_MAX2 = 0.01
+
 
 @jit
 def load3(a, i):
@@ -95,12 +98,24 @@ def quat_normalized(q):
 
 @jit
 def quat_from_rotvec(r):
-    """Unit quaternion of the rotation by angle |r| about r/|r| (identity for r = 0)."""
-    angle = norm(r)
-    if angle == 0.0:
-        return (1.0, 0.0, 0.0, 0.0)
-    s = math.sin(0.5 * angle) / angle
-    return (math.cos(0.5 * angle), r[0] * s, r[1] * s, r[2] * s)
+    """Unit quaternion of the rotation by angle |r| about r/|r| (identity for r = 0):
+    (cos(|r|/2), r sin(|r|/2)/|r|).
+
+    A body turns by |r| = |omega| dt per step, far below 0.1 rad: there both factors come from
+    their Taylor series in h^2 = |r|^2/4 up to h^8 (truncation error below h^10/10! < 3e-20),
+    without square root, sine, cosine or division, which made a quarter of NewtonIntegrator's
+    time; larger angles take the library functions.
+    """
+    a2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2]
+    if a2 < ROTVEC_SERIES_MAX2:
+        h2 = 0.25 * a2
+        c = 1.0 - h2 / 2.0 * (1.0 - h2 / 12.0 * (1.0 - h2 / 30.0 * (1.0 - h2 / 56.0)))
+        s = 0.5 * (1.0 - h2 / 6.0 * (1.0 - h2 / 20.0 * (1.0 - h2 / 42.0 * (1.0 - h2 / 72.0))))
+    else:
+        angle = math.sqrt(a2)
+        c = math.cos(0.5 * angle)
+        s = math.sin(0.5 * angle) / angle
+    return (c, r[0] * s, r[1] * s, r[2] * s)
 
 
 @jit
