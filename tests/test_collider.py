@@ -384,6 +384,51 @@ def test_no_contact_is_missed_while_bodies_move(yade):
     assert 3 <= runs <= steps // 10, f"the collider ran {runs} times in {steps} steps"
 
 
+def test_no_contact_is_missed_when_all_but_one_move_together(yade):
+    """A lattice of separate spheres drifting as one, one of them sliding sideways into its neighbour: the
+    detection's common bound of all motions is small, and the contact still appears in the first step
+    the two overlap."""
+    O = yade.O
+    r, n = 0.01, 5
+    s = 2.5 * r
+    spheres = O.bodies.append([yade.sphere((i * s, j * s, k * s), r) for k in range(n) for j in range(n)
+                               for i in range(n)])
+    for i in spheres:
+        O.bodies[i].state.vel = (0.5, 0.0, -0.2)
+    mover = spheres[62]  # the centre sphere, towards its neighbour along -y and (less) along +x
+    O.bodies[mover].state.vel = (0.7, -1.0, -0.2)
+    O.engines = frict_engines(yade)
+    O.dt = 0.2 * yade.PWaveTimeStep()
+    check = ContactChecker(yade, [])
+    while check.checked < 20 and O.iter < 2000:
+        check.step()
+    assert check.checked >= 20 and check.touching == {mover, mover - n}
+
+
+def test_no_contact_is_missed_by_a_turning_facet(yade):
+    """A long facet turning about its centre sweeps its tip through a sphere at rest: only its rotation
+    moves anything, and every step the interaction is real exactly when the sphere touches the turned
+    facet."""
+    O = yade.O
+    r = 0.02
+    facet = O.bodies.append(yade.facet([(0, -0.1, 0), (0, 0.1, 0), (0.5, 0, 0)]))  # centre near x = 0.09
+    ball = O.bodies.append(yade.sphere((0.45, 0, 0.1), r))
+    b = O.bodies[facet]
+    b.state.blockedDOFs = "xyzXYZ"
+    b.state.angVel = (0, -2.0, 0)  # the tip at x = 0.5 rises towards the ball
+    O.engines = frict_engines(yade)
+    O.dt = 1e-4
+    touched = []
+    for _ in range(1500):
+        dist = point_triangle_distance(np.asarray(O.bodies[ball].state.pos, float)[None, :],
+                                       facet_vertices(O.bodies[facet]))[0]
+        O.step()
+        real = O.interactions.has(facet, ball, onlyReal=True)
+        assert real == (dist < r), f"iter {O.iter}: distance {dist}, interaction real: {real}"
+        touched.append(real)
+    assert any(touched) and not touched[0]
+
+
 # ---- 4. erasing and appending bodies during a run ------------------------------------------
 
 def test_erased_body_loses_its_interactions_and_is_never_paired_again(yade):

@@ -17,7 +17,8 @@ potential pairs are never real, so granum keeps them apart:
     Motion budget of a pair without contact [m]: while the relative motion of its two
     bodies since the collider last ran stays below it, they cannot touch and the
     geometry is not evaluated (see :func:`granum.kernels.interaction.detect_block`).
-    -inf: evaluate at the next step (new pairs, ended contacts).
+    -inf: evaluate at the next step (new pairs, ended contacts); +inf: never (the pair has
+    a contact, or its shapes do not interact).
 ``pair_hit``  (P,) uint8
     Outcome of this step's detection for the pair (``HIT_*`` of the interaction loop).
 ``con_i``, ``con_f``  (K, NI_CORE or NI) int32 and (K, NF) float64

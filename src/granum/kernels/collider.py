@@ -386,8 +386,9 @@ def find_pair(pairs, start, a, b):
 
 
 @jit
-def relink_contact(c, C, pairs, start, cells, pair_con):
-    """Attach live contact ``c`` to its pair in the new pair list (or to none: -1)."""
+def relink_contact(c, C, pairs, start, cells, pair_con, pair_gap):
+    """Attach live contact ``c`` to its pair in the new pair list (or to none: -1); the pair's budget
+    becomes +inf (a pair with a contact is not detected)."""
     if not C.con_i[c, I_FLAGS] & FLAG_ALIVE:
         return
     id1 = C.con_i[c, I_ID1]
@@ -405,19 +406,20 @@ def relink_contact(c, C, pairs, start, cells, pair_con):
     C.con_i[c, I_PAIR] = p
     if p >= 0:
         pair_con[p] = c
+        pair_gap[p] = math.inf
 
 
 @jit
-def relink_block(b, C, pairs, start, cells, pair_con):
+def relink_block(b, C, pairs, start, cells, pair_con, pair_gap):
     """Contacts of block ``b`` (borrowing the lists: no reference counting per contact)."""
-    pairs, start, cells, pair_con = borrow((pairs, start, cells, pair_con))
+    pairs, start, cells, pair_con, pair_gap = borrow((pairs, start, cells, pair_con, pair_gap))
     for c in range(b * BLOCK, min(C.ctr[C_CONTACTS], (b + 1) * BLOCK)):
-        relink_contact(c, C, pairs, start, cells, pair_con)
+        relink_contact(c, C, pairs, start, cells, pair_con, pair_gap)
 
 
-def _relink(C, pairs, start, cells, pair_con):
+def _relink(C, pairs, start, cells, pair_con, pair_gap):
     for b in prange((C.ctr[C_CONTACTS] + BLOCK - 1) // BLOCK):
-        relink_block(b, C, pairs, start, cells, pair_con)
+        relink_block(b, C, pairs, start, cells, pair_con, pair_gap)
 
 
 relink, relink_par = kernel(_relink)
@@ -495,15 +497,16 @@ def collider_stage(S, C, P):
         return
     n = pairs.shape[0]
     pair_con = np.full(n, -1, np.int32)
+    pair_gap = np.full(n, -np.inf, np.float32)
     if C.ctr[C_CONTACTS] < PARALLEL_THRESHOLD:
-        relink(raw(C), pairs, start, cells, pair_con)
+        relink(raw(C), pairs, start, cells, pair_con, pair_gap)
     else:
-        relink_par(raw(C), pairs, start, cells, pair_con)
+        relink_par(raw(C), pairs, start, cells, pair_con, pair_gap)
     C.ctr[C_PAIRS] = n
     C.ctr[C_COLLIDE] = 0
     C.ctr[C_COLLIDER_RUNS] += 1
     C.pair_ids = pairs
     C.pair_cell = cells
     C.pair_con = pair_con
-    C.pair_gap = np.full(n, -np.inf, np.float32)
+    C.pair_gap = pair_gap
     C.pair_hit = np.zeros(n, np.uint8)

@@ -127,7 +127,7 @@ def budget_f32(x):
 
 
 @jit
-def detect_block(b, S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, hits):
+def detect_block(b, S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, bound, hits):
     """Which pairs of block ``b`` without a contact touch now: ``pair_hit``.
 
     The geometry of a pair is evaluated only when the relative motion of its two bodies since
@@ -141,8 +141,9 @@ def detect_block(b, S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, hits)
     between t0 and t is at most m(t) + m(t0)). Bodies moving together (a falling cluster) never
     use up their budgets. In a periodic cell body b's image sits at x_b + H k, so d_b also holds
     H k - H0 k, H0 the cell when the collider ran (``cell_bound_hsize``): still the exact
-    displacement of the image. The arrays are read into locals (borrowed: no reference counting
-    per pair).
+    displacement of the image. ``bound`` [m] is an upper bound of m over all pairs
+    (:func:`motion_bound`): a pair whose budget exceeds it is passed over without reading more.
+    The arrays are read into locals (borrowed: no reference counting per pair).
     """
     motion, hits, pair_con, pair_ids, pair_gap, pair_hit = borrow((motion, hits, C.pair_con, C.pair_ids,
                                                                    C.pair_gap, C.pair_hit))
@@ -152,7 +153,9 @@ def detect_block(b, S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, hits)
     found = 0
     for p in range(b * BLOCK, min(C.ctr[C_PAIRS], (b + 1) * BLOCK)):
         hit = 0
-        if pair_con[p] < 0:
+        # a budget above every pair's motion (``bound``, see motion_bound) needs neither the pair's bodies nor
+        # its contact (+inf when it has one): in a quasi-static packing the pass reads 5 bytes per pair
+        if not pair_gap[p] > bound and pair_con[p] < 0:
             i = pair_ids[p, 0]
             j = pair_ids[p, 1]
             dx = motion[i, 0] - motion[j, 0]
@@ -175,32 +178,72 @@ def detect_block(b, S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, hits)
     hits[b] = found
 
 
-def _detect(S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, hits):
+def _detect(S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, bound, hits):
     for b in prange(hits.shape[0]):
-        detect_block(b, S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, hits)
+        detect_block(b, S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, bound, hits)
 
 
 detect, detect_par = kernel(_detect)
 
 
 @jit
-def motion_block(b, S, nb, motion):
+def motion_block(b, S, nb, motion, spread):
     """Rows of ``motion`` (nb, 4) for the bodies of block ``b``: displacement since the collider ran and
-    rotation times reach (:func:`granum.kernels.collider.body_displacement`)."""
+    rotation times reach (:func:`granum.kernels.collider.body_displacement`); in ``spread[b]`` (7,) the
+    least and the greatest displacement per axis and the greatest rotation term of its live bodies
+    (inf when one of them is not finite)."""
+    lo_x = lo_y = lo_z = math.inf  # scalars, not lists: a list would live on the heap
+    hi_x = hi_y = hi_z = -math.inf
+    w_max = 0.0
+    alive = S.alive
     for i in range(b * BLOCK, min(nb, (b + 1) * BLOCK)):
         dx, dy, dz, w = body_displacement(i, S)
         motion[i, 0] = dx
         motion[i, 1] = dy
         motion[i, 2] = dz
         motion[i, 3] = w
+        if alive[i]:
+            lo_x, lo_y, lo_z = min(lo_x, dx), min(lo_y, dy), min(lo_z, dz)
+            hi_x, hi_y, hi_z = max(hi_x, dx), max(hi_y, dy), max(hi_z, dz)
+            # w >= 0; NaN anywhere makes the sum fail the test: no bound
+            w_max = max(w_max, w) if abs(dx) + abs(dy) + abs(dz) + w < math.inf else math.inf
+    spread[b, 0], spread[b, 1], spread[b, 2] = lo_x, lo_y, lo_z
+    spread[b, 3], spread[b, 4], spread[b, 5] = hi_x, hi_y, hi_z
+    spread[b, 6] = w_max
 
 
-def _body_motions(S, nb, motion):
-    for b in prange((nb + BLOCK - 1) // BLOCK):
-        motion_block(b, S, nb, motion)
+def _body_motions(S, nb, motion, spread):
+    for b in prange(spread.shape[0]):
+        motion_block(b, S, nb, motion, spread)
 
 
 body_motions, body_motions_par = kernel(_body_motions)
+
+
+@jit
+def motion_bound(S, spread):
+    """Upper bound [m] of the relative motion m = |d_a - d_b| + w_a + w_b of any two bodies (see
+    :func:`detect_block`), from the blocks' ``spread`` (:func:`motion_block`): every displacement lies in
+    the box [lo, hi], so |d_a - d_b| <= |hi - lo|, and w_a + w_b <= 2 max w. Bodies that move together
+    (a packing at rest, a rigidly falling cluster without walls) give a small bound. Infinite while a
+    periodic cell has changed since the collider ran (the images then move with the cell)."""
+    if S.iscal[I_PERIODIC] != 0:
+        for i in range(3):
+            for j in range(3):
+                if S.cell_hsize[i, j] != S.cell_bound_hsize[i, j]:
+                    return math.inf
+    lo = np.full(3, math.inf)
+    hi = np.full(3, -math.inf)
+    w_max = 0.0
+    for b in range(spread.shape[0]):
+        for k in range(3):
+            lo[k] = min(lo[k], spread[b, k])
+            hi[k] = max(hi[k], spread[b, 3 + k])
+        w_max = max(w_max, spread[b, 6])
+    if lo[0] > hi[0]:  # no live body
+        return 0.0
+    extent = math.sqrt((hi[0] - lo[0]) ** 2 + (hi[1] - lo[1]) ** 2 + (hi[2] - lo[2]) ** 2)
+    return (extent + 2.0 * w_max) * (1.0 + 1e-12)  # above the rounding of this sum
 
 
 @jit
@@ -275,6 +318,7 @@ def new_contact(S, C, a, b, p, geom_code, geom_swap, geom_type, phys_code, phys_
     C.con_i[c, I_BORN] = S.iscal[I_ITER]
     if p >= 0:
         C.pair_con[p] = c
+        C.pair_gap[p] = math.inf  # never detected while its contact lives (see detect_block)
     C.ctr[C_CONTACTS] = c + 1
     C.ctr[C_CSR_DIRTY] = 1
     return c
@@ -559,15 +603,17 @@ def interaction_stage(S, C, P):
     R = raw(S)  # hot loops read the records through raw views (see granum.core.records)
     V = raw(C)
     motion = np.empty((nb, 4))
+    spread = np.empty(((nb + BLOCK - 1) // BLOCK, 7))
     if nb < PARALLEL_THRESHOLD:
-        body_motions(R, nb, motion)
+        body_motions(R, nb, motion, spread)
     else:
-        body_motions_par(R, nb, motion)
+        body_motions_par(R, nb, motion, spread)
+    bound = motion_bound(R, spread)
     hits = np.zeros((V.ctr[C_PAIRS] + BLOCK - 1) // BLOCK, np.int64)
     if V.ctr[C_PAIRS] < PARALLEL_THRESHOLD:
-        detect(R, V, geom_code, geom_swap, geom_tab, pair_ok, motion, hits)
+        detect(R, V, geom_code, geom_swap, geom_tab, pair_ok, motion, bound, hits)
     else:
-        detect_par(R, V, geom_code, geom_swap, geom_tab, pair_ok, motion, hits)
+        detect_par(R, V, geom_code, geom_swap, geom_tab, pair_ok, motion, bound, hits)
     create_contacts(S, C, geom_code, geom_swap, geom_type, phys_code, phys_swap, phys_type, law_code, hits)
     if C.ctr[C_STATUS] != 0:
         return
