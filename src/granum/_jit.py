@@ -103,8 +103,14 @@ PARALLEL_THRESHOLD_CONTACTS = BLOCK + 1
 
 def jit(fn=None, **kw):
     """``numba.njit`` with granum's defaults (on-disk cache, no Python fallback); called from compiled
-    code, the function is compiled for canonical argument types and link-only (:mod:`granum._linking`)."""
-    opts = dict(cache=True, nogil=True)
+    code, the function is compiled for canonical argument types and link-only (:mod:`granum._linking`).
+
+    Division follows IEEE 754 (``error_model="numpy"``: x/0 is inf or NaN, as in C and YADE) instead of
+    testing every divisor for zero to raise ZeroDivisionError: 2-4 % of a dense-lattice step. Inputs
+    that would divide by zero are refused before a run (a free body without mass, a zero radius), and
+    a non-finite state that still arises stops the run with the body named (NewtonIntegrator's check).
+    """
+    opts = dict(cache=True, nogil=True, error_model="numpy")
     opts.update(kw)
     if fn is None:
         return lambda f: _linking.install(njit(**opts)(f))
