@@ -108,3 +108,24 @@ def test_rotation_quaternion_is_sine_and_cosine():
         assert abs(q[0] - expected[0]) <= 2.3e-16
         assert np.linalg.norm(q[1:] - expected[1:]) <= 4.5e-16 * np.linalg.norm(expected[1:].astype(float))
     assert quat_from_rotvec((0.0, 0.0, 0.0)) == (1.0, 0.0, 0.0, 0.0)
+
+
+def test_motion_bound_exceeds_every_pairs_motion(yade):
+    """The detection's common bound is at least |d_a - d_b| + w_a + w_b for every two bodies (brute force
+    over random displacements in blocks), and infinite when a displacement is not finite."""
+    from granum._jit import call
+    from granum.kernels.interaction import motion_bound
+
+    yade.O.bodies.append(yade.sphere((0, 0, 0), 1))
+    S = yade.O._scene.arrays()
+    rng = np.random.default_rng(4)
+    for _ in range(20):
+        d = rng.normal(0, 1e-3, (40, 3)) + rng.normal(0, 1, 3)  # a common drift and a spread
+        w = rng.uniform(0, 1e-3, 40) * (rng.uniform(size=40) < 0.3)
+        blocks = np.array_split(np.arange(40), 5)
+        spread = np.array([np.r_[d[b].min(0), d[b].max(0), w[b].max()] for b in blocks])
+        bound = call(motion_bound, S, spread)
+        worst = max(np.linalg.norm(d[a] - d[b]) + w[a] + w[b] for a in range(40) for b in range(40))
+        assert worst <= bound <= 1.01 * (np.linalg.norm(d.max(0) - d.min(0)) + 2 * w.max())
+    nan_x = np.array([[np.inf, 0, 0, -np.inf, 0, 0, np.inf]])  # a block whose only body has a NaN x
+    assert call(motion_bound, S, nan_x) == np.inf

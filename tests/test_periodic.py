@@ -121,6 +121,30 @@ def test_no_contact_is_missed_in_a_deforming_cell(yade):
     assert 3 <= runs <= steps // 5, f"the collider ran {runs} times in {steps} steps"
 
 
+def test_image_brought_by_the_shrinking_cell_touches_in_its_step(yade):
+    """Two fixed spheres (homoDeform 0: they do not follow the flow) meet only through the boundary, as
+    the cell shrinks: no body moves, yet the interaction is real exactly from the step in which the image
+    overlaps (the image moves with the cell, so the bound of the motions must not be zero)."""
+    O = yade.O
+    O.periodic = True
+    O.cell.setBox(1, 1, 1)
+    r = 0.1
+    O.bodies.append([yade.sphere((0.15, 0.5, 0.5), r, fixed=True), yade.sphere((0.85, 0.5, 0.5), r, fixed=True)])
+    O.engines = frict_engines(yade, bounds=[yade.Bo1_Sphere_Aabb()], geoms=[yade.Ig2_Sphere_Sphere_ScGeom()])
+    O.cell.homoDeform = 0
+    O.cell.velGrad = ((-1, 0, 0), (0, 0, 0), (0, 0, 0))
+    O.dt = 1e-4
+    seen = []
+    for _ in range(1500):
+        length = O.cell.hSize[0][0]  # the cell this step's detection sees (deformed at its start)
+        O.step()
+        gap = O.cell.hSize[0][0] - 0.7 - 2 * r  # distance of sphere 1 to the image of sphere 0, less 2r
+        real = O.interactions.has(0, 1, onlyReal=True)
+        assert real == (gap < 0), f"iter {O.iter}: gap {gap}, interaction real: {real} (cell {length})"
+        seen.append(real)
+    assert any(seen) and not seen[0]
+
+
 def test_momentum_is_conserved_across_the_boundary(yade):
     """A periodic gas of colliding spheres without damping keeps its total momentum to rounding."""
     _cloud(yade, ((1, 0.2, 0), (0, 1, 0), (0, 0, 1)), 150, 0.04, 0.06, seed=7)

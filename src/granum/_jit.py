@@ -106,9 +106,10 @@ def jit(fn=None, **kw):
     code, the function is compiled for canonical argument types and link-only (:mod:`granum._linking`).
 
     Division follows IEEE 754 (``error_model="numpy"``: x/0 is inf or NaN, as in C and YADE) instead of
-    testing every divisor for zero to raise ZeroDivisionError: 2-4 % of a dense-lattice step. Inputs
-    that would divide by zero are refused before a run (a free body without mass, a zero radius), and
-    a non-finite state that still arises stops the run with the body named (NewtonIntegrator's check).
+    testing every divisor for zero to raise ZeroDivisionError: 2-4 % of a dense-lattice step. Most
+    inputs that would divide by zero are refused before a run (a free body without mass, a zero radius,
+    a facet with collinear vertices); a non-finite state that still arises in a free body (zero inertia,
+    coincident sphere centres) stops the run with the body named (NewtonIntegrator's check).
     """
     opts = dict(cache=True, nogil=True, error_model="numpy")
     opts.update(kw)

@@ -240,6 +240,8 @@ def motion_bound(S, spread):
             lo[k] = min(lo[k], spread[b, k])
             hi[k] = max(hi[k], spread[b, 3 + k])
         w_max = max(w_max, spread[b, 6])
+    if w_max == math.inf:  # a displacement is not finite (min and max pass over NaN: look here first)
+        return math.inf
     if lo[0] > hi[0]:  # no live body
         return 0.0
     extent = math.sqrt((hi[0] - lo[0]) ** 2 + (hi[1] - lo[1]) ** 2 + (hi[2] - lo[2]) ** 2)

@@ -62,8 +62,8 @@ def damp(a, v, damping):
     """YADE's non-viscous damping of one acceleration component (3.5,24): a (1 - damping sgn(a v)).
 
     Written without branches: the sign of a v is as good as random in a dense packing, and the
-    mispredicted branches cost a quarter of NewtonIntegrator's time at 1e5 spheres (the same bits:
-    damping * 1.0 and a * 1.0 are exact)."""
+    mispredicted branches cost a quarter of NewtonIntegrator's time at 1e5 spheres (the same bits as
+    the branches for finite damping: damping * 1.0 and a * 1.0 are exact)."""
     s = a * v
     return a * (1.0 - damping * float((s > 0.0) - (s < 0.0)))
 
