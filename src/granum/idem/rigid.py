@@ -11,12 +11,10 @@ References: seed article "力積型個別要素法" (summarised in ``shared/refe
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from granum._jit import jit, kernel, prange
-from granum.physics.vec import add, cross, dot, load3, matvec, quat_mul, quat_normalized, scale
+from granum.physics.vec import add, cross, dot, load3, matvec, quat_from_rotvec, quat_mul, quat_normalized, scale
 
 
 def mass_properties(points: np.ndarray, masses: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
@@ -88,17 +86,6 @@ def k_matrix(inv_ma, inv_ia, ra, inv_mb, inv_ib, rb):
 
 
 @jit
-def orientation_increment(w, dt):
-    """Quaternion of the rotation by |w| dt about w/|w| (article §8.5); identity when w = 0."""
-    wn = math.sqrt(dot(w, w))
-    if wn == 0.0:
-        return (1.0, 0.0, 0.0, 0.0)
-    half = 0.5 * wn * dt
-    s = math.sin(half) / wn
-    return (math.cos(half), w[0] * s, w[1] * s, w[2] * s)
-
-
-@jit
 def advance_bodies(dt, fixed, pos, vel, ang_vel, ori, inertia0, inv_inertia0, inv_inertia):
     """Positions and orientations after the impulse phase (article §8.4-8.7); updates ``inv_inertia``.
 
@@ -120,7 +107,7 @@ def advance_bodies(dt, fixed, pos, vel, ang_vel, ori, inertia0, inv_inertia0, in
         rotation_matrix(q, R)
         rotate_tensor(R, inertia0[b], Iw)
         L = matvec(Iw, w)
-        q = quat_normalized(quat_mul(orientation_increment(w, dt), q))
+        q = quat_normalized(quat_mul(quat_from_rotvec(scale(w, dt)), q))  # turned by |w| dt about w (§8.5)
         for k in range(4):
             ori[b, k] = q[k]
         rotation_matrix(q, R)
