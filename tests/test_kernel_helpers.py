@@ -1,13 +1,18 @@
 """The loops that replace NumPy conveniences inside kernels (granum.kernels.sorting, granum.kernels.copy) give
-NumPy's results, on random data with ties and on the edge cases; prefetching changes no result."""
+NumPy's results, on random data with ties and on the edge cases; prefetching changes no result; the block
+queue of the parallel loops (granum.kernels.schedule) runs every block once."""
 
 from __future__ import annotations
 
+import math
+
+import numba
 import numpy as np
 import pytest
 from conftest import frict_engines
 
 from granum.kernels.copy import copy_items, copy_row, copy_rows, copy_to_row
+from granum.kernels.schedule import block_queue, fetch_add, next_block, queue_of, queue_workers
 from granum.kernels.sorting import argsort_keys, lower_bound, median
 
 
@@ -129,3 +134,63 @@ def test_motion_bound_exceeds_every_pairs_motion(yade):
         assert worst <= bound <= 1.01 * (np.linalg.norm(d.max(0) - d.min(0)) + 2 * w.max())
     nan_x = np.array([[np.inf, 0, 0, -np.inf, 0, 0, np.inf]])  # a block whose only body has a NaN x
     assert call(motion_bound, S, nan_x) == np.inf
+
+
+@pytest.mark.parametrize("workers", [1, 2, 3, 5])
+def test_block_queue_hands_out_every_block_once_own_range_first(workers):
+    """Workers claiming in a random interleaving: each block comes out exactly once, each range's blocks in
+    increasing order; a worker takes blocks of its own range before any other, and is told "no more" only
+    when every block is taken."""
+    rng = np.random.default_rng(workers)
+    for nblocks in (0, 1, 2, 4, 7, 100):
+        queue = queue_of(nblocks, workers)
+        claims = {w: [] for w in range(workers)}
+        taken = []
+        active = list(range(workers))
+        while active:
+            w = active[rng.integers(len(active))]
+            b = next_block(queue, w)
+            if b < 0:
+                assert sorted(taken) == list(range(nblocks)), "a worker stopped while blocks were left"
+                active.remove(w)
+                continue
+            claims[w].append(b)
+            taken.append(b)
+        assert sorted(taken) == list(range(nblocks))
+        for w, got in claims.items():
+            own = range(w * nblocks // workers, (w + 1) * nblocks // workers)
+            mine = [b for b in got if b in own]
+            assert got[:len(mine)] == mine
+            assert [b for b in taken if b in own] == list(own)
+
+
+@numba.njit(parallel=True)
+def _claim_all(nblocks, heavy, claimant, count, work):
+    queue = block_queue(nblocks)
+    for w in numba.prange(queue_workers(queue)):
+        b = next_block(queue, w)
+        while b >= 0:
+            fetch_add(count, b, 1)
+            claimant[b] = w
+            x = 0.0
+            for k in range(heavy if b < nblocks // 2 else 0):  # the first range is slow
+                x = math.sqrt(k + x)
+            work[b] = x
+            b = next_block(queue, w)
+
+
+def test_parallel_block_queue_runs_each_block_once_and_shares_a_slow_range():
+    """Threads claiming through atomic counters: every block runs exactly once; with two threads and the
+    first half of the blocks slow, the second thread takes some of them once its own range is done."""
+    for nblocks in (0, 1, 3, 64, 1000):
+        claimant = np.full(nblocks, -1, np.int64)
+        count = np.zeros(nblocks, np.int64)
+        _claim_all(nblocks, 0, claimant, count, np.zeros(nblocks))
+        assert (count == 1).all()
+    if numba.get_num_threads() < 2:
+        pytest.skip("needs two threads")
+    claimant = np.full(200, -1, np.int64)
+    count = np.zeros(200, np.int64)
+    _claim_all(200, 200_000, claimant, count, np.zeros(200))  # about 0.5 ms per slow block
+    assert (count == 1).all()
+    assert (claimant[:100] == 1).any(), "the idle worker did not take blocks of the slow range"

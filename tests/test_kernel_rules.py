@@ -2,8 +2,9 @@
 
 Numba loses writes made through the fields of a record or named tuple directly in the body of a
 ``prange`` loop (numba#7135: the parallel loop works on copies of the tuple's arrays). Every parallel
-loop over the scene (functions taking the records ``S`` or ``C``) therefore has a body of exactly
-one call, to a function that does the work: writes inside a called function are kept.
+loop over the scene (functions taking the records ``S`` or ``C``) therefore hands its blocks out
+through a queue (:mod:`granum.kernels.schedule`) and does the work of a block in exactly one call,
+to a function: writes inside a called function are kept.
 """
 
 from __future__ import annotations
@@ -29,14 +30,28 @@ def _prange_loops():
                     yield path.relative_to(PACKAGE), fn.name, params, node
 
 
-def test_parallel_loops_over_records_have_a_single_call_as_body():
+def _calls(node, name):
+    return isinstance(node, ast.Call) and getattr(node.func, "id", None) == name
+
+
+def _is_block_loop(loop):
+    """``for w in prange(queue_workers(q)): b = next_block(q, w); while b >= 0: <one call>; b = next_block(q, w)``"""
+    def claim(stmt):
+        return isinstance(stmt, ast.Assign) and _calls(stmt.value, "next_block")
+
+    body = loop.body
+    return (_calls(loop.iter.args[0], "queue_workers") and len(body) == 2 and claim(body[0])
+            and isinstance(body[1], ast.While) and len(body[1].body) == 2
+            and isinstance(body[1].body[0], ast.Expr) and isinstance(body[1].body[0].value, ast.Call)
+            and claim(body[1].body[1]))
+
+
+def test_parallel_loops_over_records_take_blocks_from_a_queue_with_one_call_each():
     loops = list(_prange_loops())
     over_records = [(p, name, loop) for p, name, params, loop in loops if params & {"S", "C"}]
     assert len(over_records) >= 8, "the kernels' parallel loops were not found"
-    bad = [f"{p}:{loop.lineno} ({name})" for p, name, loop in over_records
-           if not (len(loop.body) == 1 and isinstance(loop.body[0], ast.Expr)
-                   and isinstance(loop.body[0].value, ast.Call))]
-    assert not bad, f"prange bodies must be one call (numba#7135): {bad}"
+    bad = [f"{p}:{loop.lineno} ({name})" for p, name, loop in over_records if not _is_block_loop(loop)]
+    assert not bad, f"prange loops must take blocks from a queue and run each in one call (numba#7135): {bad}"
 
 
 LATTICE = """

@@ -49,6 +49,7 @@ from granum.kernels.collider_periodic import find_pairs_periodic
 from granum.kernels.copy import copy_rows
 from granum.kernels.dispatch import bound_call
 from granum.kernels.pairing import may_collide
+from granum.kernels.schedule import block_queue, next_block, queue_workers
 from granum.kernels.sorting import argsort_keys, lower_bound, median
 from granum.kernels.static import static_value
 from granum.physics.vec import load3, load4, quat_angle, quat_mul, sub
@@ -107,8 +108,12 @@ def moved_block(b, S, nb, flags):
 
 
 def _moved_blocks(S, nb, flags):
-    for b in prange(flags.shape[0]):
-        moved_block(b, S, nb, flags)
+    queue = block_queue(flags.shape[0])
+    for w in prange(queue_workers(queue)):
+        b = next_block(queue, w)
+        while b >= 0:
+            moved_block(b, S, nb, flags)
+            b = next_block(queue, w)
 
 
 moved_blocks, moved_blocks_par = kernel(_moved_blocks)
@@ -155,8 +160,12 @@ def bounds_block(b, S, nb, bound_code, bound_tab, verlet):
 
 
 def _compute_bounds(S, nb, bound_code, bound_tab, verlet):
-    for b in prange((nb + BLOCK - 1) // BLOCK):
-        bounds_block(b, S, nb, bound_code, bound_tab, verlet)
+    queue = block_queue((nb + BLOCK - 1) // BLOCK)
+    for w in prange(queue_workers(queue)):
+        b = next_block(queue, w)
+        while b >= 0:
+            bounds_block(b, S, nb, bound_code, bound_tab, verlet)
+            b = next_block(queue, w)
 
 
 compute_bounds, compute_bounds_par = kernel(_compute_bounds)
@@ -247,9 +256,13 @@ def partners_block(b, S, nb, small, cell, dims, order, keys_sorted, dense_start,
 
 def _partners(S, nb, small, cell, dims, order, keys_sorted, dense_start, large, avoid_self, count, start, out):
     """Pass 1 (``out`` empty): count partners j > i of each body. Pass 2: write them."""
-    for b in prange((nb + BLOCK - 1) // BLOCK):
-        partners_block(b, S, nb, small, cell, dims, order, keys_sorted, dense_start, large, avoid_self, count,
-                       start, out)
+    queue = block_queue((nb + BLOCK - 1) // BLOCK)
+    for w in prange(queue_workers(queue)):
+        b = next_block(queue, w)
+        while b >= 0:
+            partners_block(b, S, nb, small, cell, dims, order, keys_sorted, dense_start, large, avoid_self, count,
+                           start, out)
+            b = next_block(queue, w)
 
 
 partners, partners_par = kernel(_partners)
@@ -418,8 +431,12 @@ def relink_block(b, C, pairs, start, cells, pair_con, pair_gap):
 
 
 def _relink(C, pairs, start, cells, pair_con, pair_gap):
-    for b in prange((C.ctr[C_CONTACTS] + BLOCK - 1) // BLOCK):
-        relink_block(b, C, pairs, start, cells, pair_con, pair_gap)
+    queue = block_queue((C.ctr[C_CONTACTS] + BLOCK - 1) // BLOCK)
+    for w in prange(queue_workers(queue)):
+        b = next_block(queue, w)
+        while b >= 0:
+            relink_block(b, C, pairs, start, cells, pair_con, pair_gap)
+            b = next_block(queue, w)
 
 
 relink, relink_par = kernel(_relink)

@@ -25,6 +25,7 @@ import numpy as np
 from granum._jit import BLOCK, PARALLEL_THRESHOLD, jit, kernel, prange
 from granum.core.records import borrow
 from granum.kernels.pairing import may_collide
+from granum.kernels.schedule import block_queue, next_block, queue_workers
 from granum.kernels.sorting import argsort_keys
 
 
@@ -133,8 +134,12 @@ def partners_block(b, S, nb, s, p, hw, cell, dims, order, start_cell, avoid_self
 
 def _partners(S, nb, s, p, hw, cell, dims, order, start_cell, avoid_self, count, start, out, out_cell):
     """Pass 1 (``out`` empty): count partners j > i. Pass 2: write them, sorted by j."""
-    for b in prange((nb + BLOCK - 1) // BLOCK):
-        partners_block(b, S, nb, s, p, hw, cell, dims, order, start_cell, avoid_self, count, start, out, out_cell)
+    queue = block_queue((nb + BLOCK - 1) // BLOCK)
+    for w in prange(queue_workers(queue)):
+        b = next_block(queue, w)
+        while b >= 0:
+            partners_block(b, S, nb, s, p, hw, cell, dims, order, start_cell, avoid_self, count, start, out, out_cell)
+            b = next_block(queue, w)
 
 
 partners, partners_par = kernel(_partners)

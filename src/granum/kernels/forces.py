@@ -9,6 +9,7 @@ from __future__ import annotations
 from granum._jit import BLOCK, PARALLEL_THRESHOLD, jit, kernel, prange
 from granum.core.arrays import E_GRAV_WORK, I_NBODIES, I_TRACK_ENERGY, S_DT
 from granum.core.records import raw
+from granum.kernels.schedule import block_queue, next_block, queue_workers
 from granum.physics.vec import cross, load3, sub
 
 
@@ -27,8 +28,12 @@ def reset_block(b, S, nb):
 
 
 def _reset(S, nb):
-    for b in prange((nb + BLOCK - 1) // BLOCK):
-        reset_block(b, S, nb)
+    queue = block_queue((nb + BLOCK - 1) // BLOCK)
+    for w in prange(queue_workers(queue)):
+        b = next_block(queue, w)
+        while b >= 0:
+            reset_block(b, S, nb)
+            b = next_block(queue, w)
 
 
 reset, reset_par = kernel(_reset)

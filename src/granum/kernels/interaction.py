@@ -69,6 +69,7 @@ from granum.kernels.collider import body_displacement
 from granum.kernels.copy import copy_row, copy_rows
 from granum.kernels.dispatch import geom_call, law_call, phys_call
 from granum.kernels.prefetch import prefetch_row
+from granum.kernels.schedule import block_queue, next_block, queue_workers
 from granum.physics.scgeom import contact_shift
 from granum.physics.vec import add, cross, load3, matvec, scale, sub
 
@@ -179,8 +180,12 @@ def detect_block(b, S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, bound
 
 
 def _detect(S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, bound, hits):
-    for b in prange(hits.shape[0]):
-        detect_block(b, S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, bound, hits)
+    queue = block_queue(hits.shape[0])
+    for w in prange(queue_workers(queue)):
+        b = next_block(queue, w)
+        while b >= 0:
+            detect_block(b, S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, bound, hits)
+            b = next_block(queue, w)
 
 
 detect, detect_par = kernel(_detect)
@@ -213,8 +218,12 @@ def motion_block(b, S, nb, motion, spread):
 
 
 def _body_motions(S, nb, motion, spread):
-    for b in prange(spread.shape[0]):
-        motion_block(b, S, nb, motion, spread)
+    queue = block_queue(spread.shape[0])
+    for w in prange(queue_workers(queue)):
+        b = next_block(queue, w)
+        while b >= 0:
+            motion_block(b, S, nb, motion, spread)
+            b = next_block(queue, w)
 
 
 body_motions, body_motions_par = kernel(_body_motions)
@@ -424,8 +433,12 @@ def update_block(b, S, C, geom_tab, phys_tab, law_tab, died):
 
 
 def _update(S, C, geom_tab, phys_tab, law_tab, died):
-    for b in prange(died.shape[0]):
-        update_block(b, S, C, geom_tab, phys_tab, law_tab, died)
+    queue = block_queue(died.shape[0])
+    for w in prange(queue_workers(queue)):
+        b = next_block(queue, w)
+        while b >= 0:
+            update_block(b, S, C, geom_tab, phys_tab, law_tab, died)
+            b = next_block(queue, w)
 
 
 update, update_par = kernel(_update)
@@ -556,8 +569,12 @@ def gather_block(b, S, C, nb, ahead):
 
 
 def _gather(S, C, nb, ahead):
-    for b in prange((nb + BLOCK - 1) // BLOCK):
-        gather_block(b, S, C, nb, ahead)
+    queue = block_queue((nb + BLOCK - 1) // BLOCK)
+    for w in prange(queue_workers(queue)):
+        b = next_block(queue, w)
+        while b >= 0:
+            gather_block(b, S, C, nb, ahead)
+            b = next_block(queue, w)
 
 
 gather, gather_par = kernel(_gather)

@@ -38,6 +38,7 @@ from granum.core.arrays import (
 from granum.core.bodies import ShapeKind
 from granum.core.contacts import C_ERR_A, C_STATUS, STATUS_NONFINITE
 from granum.core.records import raw
+from granum.kernels.schedule import block_queue, next_block, queue_workers
 from granum.physics.vec import (
     add,
     cross,
@@ -246,8 +247,12 @@ def newton_block(b, S, nb, gravity, damping, damp_gravity, sums, bad):
 
 
 def _newton_blocks(S, nb, gravity, damping, damp_gravity, sums, bad):
-    for b in prange(sums.shape[0]):
-        newton_block(b, S, nb, gravity, damping, damp_gravity, sums, bad)
+    queue = block_queue(sums.shape[0])
+    for w in prange(queue_workers(queue)):
+        b = next_block(queue, w)
+        while b >= 0:
+            newton_block(b, S, nb, gravity, damping, damp_gravity, sums, bad)
+            b = next_block(queue, w)
 
 
 newton_blocks, newton_blocks_par = kernel(_newton_blocks)
