@@ -3,9 +3,10 @@
 Every parallel kernel loops over fixed blocks of ``BLOCK`` items (:mod:`granum._jit`). Numba's
 OpenMP loops split the iterations evenly and statically, so a step lasts as long as its slowest
 thread. On a shared host one core often runs slower than the other for a while (another machine's
-work on it); with a static split the whole step waits for it. At 1e5 spheres the contact update took
-11.2 ms per step with a busy loop sharing the second core, against 8.0 ms with the blocks shared out
-as here (4.9 ms for both on a quiet machine).
+work on it); with a static split the whole step waits for it. At 1e5 spheres, with a busy loop
+sharing the second core, the contact update took 11.2 ms per step with the static split and 8.0 ms
+with the blocks shared out as here (4.9 ms either way on a quiet machine); with the busy loop at
+nice 5, whole steps ran at 51-59 steps/s against 43-49.
 
 Each worker takes the blocks of its own contiguous range in order, so it streams through memory as
 with a static split; a worker that has finished takes blocks from the others' ranges, one at a time,
