@@ -12,7 +12,16 @@ import pytest
 from conftest import frict_engines
 
 from granum.kernels.copy import copy_items, copy_row, copy_rows, copy_to_row
-from granum.kernels.schedule import block_queue, fetch_add, next_block, queue_of, queue_workers
+from granum.kernels.schedule import (
+    block_queue,
+    fetch_add,
+    next_block,
+    queue_of,
+    queue_workers,
+    serial_block_queue,
+    serial_next_block,
+    serial_queue_workers,
+)
 from granum.kernels.sorting import argsort_keys, lower_bound, median
 
 
@@ -149,7 +158,7 @@ def test_block_queue_hands_out_every_block_once_own_range_first(workers):
         active = list(range(workers))
         while active:
             w = active[rng.integers(len(active))]
-            b = next_block(queue, w)
+            b = next_block(queue, w, claims[w][-1] if claims[w] else -1)
             if b < 0:
                 assert sorted(taken) == list(range(nblocks)), "a worker stopped while blocks were left"
                 active.remove(w)
@@ -164,11 +173,22 @@ def test_block_queue_hands_out_every_block_once_own_range_first(workers):
             assert [b for b in taken if b in own] == list(own)
 
 
+def test_serial_block_loop_counts_the_blocks_up():
+    for nblocks in (0, 1, 2, 9):
+        queue = serial_block_queue(nblocks)
+        assert serial_queue_workers(queue) == 1
+        got, b = [], serial_next_block(queue, 0, -1)
+        while b >= 0:
+            got.append(b)
+            b = serial_next_block(queue, 0, b)
+        assert got == list(range(nblocks))
+
+
 @numba.njit(parallel=True)
 def _claim_all(nblocks, heavy, claimant, count, work):
     queue = block_queue(nblocks)
     for w in numba.prange(queue_workers(queue)):
-        b = next_block(queue, w)
+        b = next_block(queue, w, -1)
         while b >= 0:
             fetch_add(count, b, 1)
             claimant[b] = w
@@ -176,7 +196,7 @@ def _claim_all(nblocks, heavy, claimant, count, work):
             for k in range(heavy if b < nblocks // 2 else 0):  # the first range is slow
                 x = math.sqrt(k + x)
             work[b] = x
-            b = next_block(queue, w)
+            b = next_block(queue, w, b)
 
 
 def test_parallel_block_queue_runs_each_block_once_and_shares_a_slow_range():

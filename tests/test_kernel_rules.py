@@ -35,7 +35,8 @@ def _calls(node, name):
 
 
 def _is_block_loop(loop):
-    """``for w in prange(queue_workers(q)): b = next_block(q, w); while b >= 0: <one call>; b = next_block(q, w)``"""
+    """``for w in prange(queue_workers(q)): b = next_block(q, w, -1)``, then
+    ``while b >= 0: <one call>; b = next_block(q, w, b)``"""
     def claim(stmt):
         return isinstance(stmt, ast.Assign) and _calls(stmt.value, "next_block")
 

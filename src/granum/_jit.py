@@ -118,6 +118,11 @@ def jit(fn=None, **kw):
     return _linking.install(njit(**opts)(fn))
 
 
+#: Globals that the serial variant of a kernel resolves to other functions, name -> function (registered by
+#: :mod:`granum.kernels.schedule`: the serial variant takes its blocks in order, without a queue).
+SERIAL_GLOBALS: dict = {}
+
+
 def kernel(fn):
     """Compile ``fn`` (which loops with ``prange``) serially and in parallel.
 
@@ -125,12 +130,17 @@ def kernel(fn):
     long as every ``prange`` iteration writes only its own outputs (no reductions
     across iterations), which granum's kernels guarantee. The parallel variant is
     compiled from a renamed copy of ``fn`` so that the two never share a cache file.
+    The serial variant is a copy of ``fn`` that sees the names of ``SERIAL_GLOBALS``
+    replaced, and the other globals of its module as they are when ``kernel`` is called.
     """
+    serial = types.FunctionType(fn.__code__, {**fn.__globals__, **SERIAL_GLOBALS}, fn.__name__,
+                                fn.__defaults__, fn.__closure__)
     twin = types.FunctionType(fn.__code__, fn.__globals__, fn.__name__ + "_parallel",
                               fn.__defaults__, fn.__closure__)
-    twin.__qualname__ = fn.__qualname__ + "_parallel"
-    twin.__module__ = fn.__module__
-    return jit(fn), jit(twin, parallel=not SERIAL_ONLY)
+    for f, suffix in ((serial, ""), (twin, "_parallel")):
+        f.__qualname__ = fn.__qualname__ + suffix
+        f.__module__ = fn.__module__
+    return jit(serial), jit(twin, parallel=not SERIAL_ONLY)
 
 
 @contextlib.contextmanager

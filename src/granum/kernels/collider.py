@@ -110,10 +110,10 @@ def moved_block(b, S, nb, flags):
 def _moved_blocks(S, nb, flags):
     queue = block_queue(flags.shape[0])
     for w in prange(queue_workers(queue)):
-        b = next_block(queue, w)
+        b = next_block(queue, w, -1)
         while b >= 0:
             moved_block(b, S, nb, flags)
-            b = next_block(queue, w)
+            b = next_block(queue, w, b)
 
 
 moved_blocks, moved_blocks_par = kernel(_moved_blocks)
@@ -162,10 +162,10 @@ def bounds_block(b, S, nb, bound_code, bound_tab, verlet):
 def _compute_bounds(S, nb, bound_code, bound_tab, verlet):
     queue = block_queue((nb + BLOCK - 1) // BLOCK)
     for w in prange(queue_workers(queue)):
-        b = next_block(queue, w)
+        b = next_block(queue, w, -1)
         while b >= 0:
             bounds_block(b, S, nb, bound_code, bound_tab, verlet)
-            b = next_block(queue, w)
+            b = next_block(queue, w, b)
 
 
 compute_bounds, compute_bounds_par = kernel(_compute_bounds)
@@ -258,11 +258,11 @@ def _partners(S, nb, small, cell, dims, order, keys_sorted, dense_start, large, 
     """Pass 1 (``out`` empty): count partners j > i of each body. Pass 2: write them."""
     queue = block_queue((nb + BLOCK - 1) // BLOCK)
     for w in prange(queue_workers(queue)):
-        b = next_block(queue, w)
+        b = next_block(queue, w, -1)
         while b >= 0:
             partners_block(b, S, nb, small, cell, dims, order, keys_sorted, dense_start, large, avoid_self, count,
                            start, out)
-            b = next_block(queue, w)
+            b = next_block(queue, w, b)
 
 
 partners, partners_par = kernel(_partners)
@@ -433,10 +433,10 @@ def relink_block(b, C, pairs, start, cells, pair_con, pair_gap):
 def _relink(C, pairs, start, cells, pair_con, pair_gap):
     queue = block_queue((C.ctr[C_CONTACTS] + BLOCK - 1) // BLOCK)
     for w in prange(queue_workers(queue)):
-        b = next_block(queue, w)
+        b = next_block(queue, w, -1)
         while b >= 0:
             relink_block(b, C, pairs, start, cells, pair_con, pair_gap)
-            b = next_block(queue, w)
+            b = next_block(queue, w, b)
 
 
 relink, relink_par = kernel(_relink)

@@ -136,10 +136,10 @@ def _partners(S, nb, s, p, hw, cell, dims, order, start_cell, avoid_self, count,
     """Pass 1 (``out`` empty): count partners j > i. Pass 2: write them, sorted by j."""
     queue = block_queue((nb + BLOCK - 1) // BLOCK)
     for w in prange(queue_workers(queue)):
-        b = next_block(queue, w)
+        b = next_block(queue, w, -1)
         while b >= 0:
             partners_block(b, S, nb, s, p, hw, cell, dims, order, start_cell, avoid_self, count, start, out, out_cell)
-            b = next_block(queue, w)
+            b = next_block(queue, w, b)
 
 
 partners, partners_par = kernel(_partners)

@@ -30,10 +30,10 @@ def reset_block(b, S, nb):
 def _reset(S, nb):
     queue = block_queue((nb + BLOCK - 1) // BLOCK)
     for w in prange(queue_workers(queue)):
-        b = next_block(queue, w)
+        b = next_block(queue, w, -1)
         while b >= 0:
             reset_block(b, S, nb)
-            b = next_block(queue, w)
+            b = next_block(queue, w, b)
 
 
 reset, reset_par = kernel(_reset)

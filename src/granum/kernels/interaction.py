@@ -182,10 +182,10 @@ def detect_block(b, S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, bound
 def _detect(S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, bound, hits):
     queue = block_queue(hits.shape[0])
     for w in prange(queue_workers(queue)):
-        b = next_block(queue, w)
+        b = next_block(queue, w, -1)
         while b >= 0:
             detect_block(b, S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, bound, hits)
-            b = next_block(queue, w)
+            b = next_block(queue, w, b)
 
 
 detect, detect_par = kernel(_detect)
@@ -220,10 +220,10 @@ def motion_block(b, S, nb, motion, spread):
 def _body_motions(S, nb, motion, spread):
     queue = block_queue(spread.shape[0])
     for w in prange(queue_workers(queue)):
-        b = next_block(queue, w)
+        b = next_block(queue, w, -1)
         while b >= 0:
             motion_block(b, S, nb, motion, spread)
-            b = next_block(queue, w)
+            b = next_block(queue, w, b)
 
 
 body_motions, body_motions_par = kernel(_body_motions)
@@ -435,10 +435,10 @@ def update_block(b, S, C, geom_tab, phys_tab, law_tab, died):
 def _update(S, C, geom_tab, phys_tab, law_tab, died):
     queue = block_queue(died.shape[0])
     for w in prange(queue_workers(queue)):
-        b = next_block(queue, w)
+        b = next_block(queue, w, -1)
         while b >= 0:
             update_block(b, S, C, geom_tab, phys_tab, law_tab, died)
-            b = next_block(queue, w)
+            b = next_block(queue, w, b)
 
 
 update, update_par = kernel(_update)
@@ -571,10 +571,10 @@ def gather_block(b, S, C, nb, ahead):
 def _gather(S, C, nb, ahead):
     queue = block_queue((nb + BLOCK - 1) // BLOCK)
     for w in prange(queue_workers(queue)):
-        b = next_block(queue, w)
+        b = next_block(queue, w, -1)
         while b >= 0:
             gather_block(b, S, C, nb, ahead)
-            b = next_block(queue, w)
+            b = next_block(queue, w, b)
 
 
 gather, gather_par = kernel(_gather)

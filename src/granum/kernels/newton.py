@@ -249,10 +249,10 @@ def newton_block(b, S, nb, gravity, damping, damp_gravity, sums, bad):
 def _newton_blocks(S, nb, gravity, damping, damp_gravity, sums, bad):
     queue = block_queue(sums.shape[0])
     for w in prange(queue_workers(queue)):
-        b = next_block(queue, w)
+        b = next_block(queue, w, -1)
         while b >= 0:
             newton_block(b, S, nb, gravity, damping, damp_gravity, sums, bad)
-            b = next_block(queue, w)
+            b = next_block(queue, w, b)
 
 
 newton_blocks, newton_blocks_par = kernel(_newton_blocks)
