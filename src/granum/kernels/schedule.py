@@ -24,7 +24,8 @@ A kernel loops like this::
 
 The serial variant of a kernel (:func:`granum._jit.kernel`) reads these three names as the
 ``serial_*`` functions below: one worker counts the blocks up, with no queue to allocate and no
-atomic operation (a step of a two-body scene calls about ten such loops; the queue cost it 0.2 us).
+atomic operation (a step of a two-body scene runs about ten such loops: with queues, the bouncing
+sphere ran at 6.8-7.2e5 steps/s instead of 9.8-10.9e5).
 With ``GRANUM_NOPAR=1`` the parallel variants run the queue on one thread, which takes every block in
 order.
 """
