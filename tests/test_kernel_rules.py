@@ -37,14 +37,15 @@ def _calls(node, name):
 def _is_block_loop(loop):
     """``for w in prange(queue_workers(q)): b = next_block(q, w, -1)``, then
     ``while b >= 0: <one call>; b = next_block(q, w, b)``"""
-    def claim(stmt):
-        return isinstance(stmt, ast.Assign) and _calls(stmt.value, "next_block")
+    def claim(stmt, after):
+        return (isinstance(stmt, ast.Assign) and _calls(stmt.value, "next_block")
+                and ast.unparse(stmt) == f"b = next_block(queue, {loop.target.id}, {after})")
 
     body = loop.body
-    return (_calls(loop.iter.args[0], "queue_workers") and len(body) == 2 and claim(body[0])
-            and isinstance(body[1], ast.While) and len(body[1].body) == 2
+    return (_calls(loop.iter.args[0], "queue_workers") and len(body) == 2 and claim(body[0], "-1")
+            and isinstance(body[1], ast.While) and ast.unparse(body[1].test) == "b >= 0" and len(body[1].body) == 2
             and isinstance(body[1].body[0], ast.Expr) and isinstance(body[1].body[0].value, ast.Call)
-            and claim(body[1].body[1]))
+            and claim(body[1].body[1], "b"))
 
 
 def test_parallel_loops_over_records_take_blocks_from_a_queue_with_one_call_each():

@@ -127,8 +127,8 @@ def kernel(fn):
     """Compile ``fn`` (which loops with ``prange``) serially and in parallel.
 
     Returns ``(serial, parallel)`` dispatchers. Both compute identical results as
-    long as every ``prange`` iteration writes only its own outputs (no reductions
-    across iterations), which granum's kernels guarantee. The parallel variant is
+    long as every item (a block, where the loop takes blocks from a queue) writes only
+    its own outputs (no reductions across items), which granum's kernels guarantee. The parallel variant is
     compiled from a renamed copy of ``fn`` so that the two never share a cache file.
     The serial variant is a copy of ``fn`` that sees the names of ``SERIAL_GLOBALS``
     replaced, and the other globals of its module as they are when ``kernel`` is called.

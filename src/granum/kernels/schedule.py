@@ -1,6 +1,6 @@
 """Which thread runs which block of a parallel loop: each its own range first, then the others'.
 
-Every parallel kernel loops over fixed blocks of ``BLOCK`` items (:mod:`granum._jit`). Numba's
+The parallel kernels over the scene loop over fixed blocks of ``BLOCK`` items (:mod:`granum._jit`). Numba's
 OpenMP loops split the iterations evenly and statically, so a step lasts as long as its slowest
 thread. On a shared host one core often runs slower than the other for a while (another machine's
 work on it); with a static split the whole step waits for it. At 1e5 spheres, with a busy loop
@@ -46,7 +46,9 @@ _SLOTS = 8
 
 @intrinsic
 def fetch_add(typingctx, a, i, v):
-    """Atomically add ``v`` to ``a[i]`` (1-d int64 array) and return the value before."""
+    """Atomically add ``v`` to ``a[i]`` (1-d int64 array) and return the value before.
+
+    No bounds check and no negative indexing: ``0 <= i < len(a)`` is the caller's to keep."""
     if not (isinstance(a, types.Array) and a.ndim == 1 and a.dtype == types.int64
             and isinstance(i, types.Integer) and isinstance(v, types.Integer)):
         return None
@@ -71,8 +73,10 @@ def thread_count(typingctx):
     address, which keeps the kernels that use it out of the on-disk cache."""
 
     def codegen(context, builder, sig, args):
-        fn = cgutils.get_or_insert_function(builder.module, ir.FunctionType(ir.IntType(32), []), "get_num_threads")
-        return builder.sext(builder.call(fn, []), ir.IntType(64))
+        # declared as Numba's parallel loops declare it (intp), so that both can share a module; the C
+        # function returns an int, whose 32 bits are kept
+        fn = cgutils.get_or_insert_function(builder.module, ir.FunctionType(cgutils.intp_t, []), "get_num_threads")
+        return builder.sext(builder.trunc(builder.call(fn, []), ir.IntType(32)), ir.IntType(64))
 
     return types.int64(), codegen
 
