@@ -111,15 +111,15 @@ def queue_workers(queue):
 @jit
 def next_block(queue, w, b):
     """The next block for worker ``w``, or -1 when no block is left: its own range first, then those of
-    the workers after it (``b``, the worker's previous block or -1, is not needed)."""
+    the workers after it (``b``, the worker's previous block or -1, is not needed: the counters know)."""
     workers = queue[0]
     nblocks = queue[1]
     cursor = _SLOTS * (w + 1) + 1
     while queue[cursor] < workers:
         r = (w + queue[cursor]) % workers
-        b = fetch_add(queue, _SLOTS * (r + 1), 1)
-        if b < (r + 1) * nblocks // workers:
-            return b
+        claimed = fetch_add(queue, _SLOTS * (r + 1), 1)
+        if claimed < (r + 1) * nblocks // workers:
+            return claimed
         queue[cursor] += 1
     return -1
 
