@@ -12,12 +12,13 @@
 from __future__ import annotations
 
 import contextlib
-import fcntl
 import hashlib
 import os
 import pathlib
 import shutil
 import types
+
+import filelock
 
 _PKG = pathlib.Path(__file__).resolve().parent
 
@@ -151,14 +152,11 @@ def compile_lock():
     compiling the same function at once can pair an index entry of one with the code
     of the other. Compiling under this lock serialises first runs; the waiting
     processes then load the freshly cached code instead of compiling it again.
+    The lock is a portable file lock (:mod:`filelock`: ``fcntl`` on POSIX, ``msvcrt`` on Windows).
     """
     CACHE_DIR.mkdir(parents=True, exist_ok=True)
-    with open(CACHE_DIR / "compile.lock", "w") as fh:
-        fcntl.flock(fh, fcntl.LOCK_EX)
-        try:
-            yield
-        finally:
-            fcntl.flock(fh, fcntl.LOCK_UN)
+    with filelock.FileLock(CACHE_DIR / "compile.lock"):
+        yield
 
 
 _warm: set[int] = set()

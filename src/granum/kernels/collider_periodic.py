@@ -27,12 +27,13 @@ from granum.core.records import borrow
 from granum.kernels.pairing import may_collide
 from granum.kernels.schedule import block_queue, next_block, queue_workers
 from granum.kernels.sorting import argsort_keys
+from granum.physics.vec import inv3
 
 
 @jit
 def fractional_boxes(S, nb):
     """Centres (wrapped) ``s``, their cell offsets ``p`` and half-widths ``hw`` in fractional coordinates."""
-    hinv = np.linalg.inv(S.cell_hsize)
+    hinv = inv3(S.cell_hsize)
     s = np.zeros((nb, 3))
     p = np.zeros((nb, 3), np.int64)
     hw = np.full((nb, 3), -1.0)

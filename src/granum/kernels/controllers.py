@@ -29,7 +29,7 @@ from granum.core.arrays import I_HOOK, I_ITER, I_NBODIES, S_DT
 from granum.core.bodies import DOF_ALL
 from granum.core.contacts import C_CONTACTS, F_FN, F_FS, F_KN, F_NORMAL, FLAG_ALIVE, I_CELL, I_FLAGS, I_ID1, I_ID2
 from granum.kernels.interaction import load3_row
-from granum.physics.vec import add, load3, matvec, sub
+from granum.physics.vec import add, det3, load3, matvec, sub
 
 # slots of the controller's output array
 O_STRESS = 0        # 0..2 diagonal stress [Pa]
@@ -45,8 +45,7 @@ O_SIZE = 22
 def contact_stress(S, C, out):
     """Write the Love-Weber stress tensor, the stiffness moduli and the unbalanced force into ``out``."""
     h = S.cell_hsize
-    vol = (h[0, 0] * (h[1, 1] * h[2, 2] - h[1, 2] * h[2, 1]) - h[0, 1] * (h[1, 0] * h[2, 2] - h[1, 2] * h[2, 0])
-           + h[0, 2] * (h[1, 0] * h[2, 1] - h[1, 1] * h[2, 0]))
+    vol = det3(h)
     sig = np.zeros((3, 3))
     stiff = np.zeros(3)
     fsum = 0.0
@@ -96,9 +95,7 @@ def peri_triax_stage(S, C, P):
     if glob_update <= 1 or S.iscal[I_ITER] % glob_update == 0 or not out[O_UNBALANCED] == out[O_UNBALANCED]:
         vol = contact_stress(S, C, out)
     else:
-        h = S.cell_hsize
-        vol = (h[0, 0] * (h[1, 1] * h[2, 2] - h[1, 2] * h[2, 1]) - h[0, 1] * (h[1, 0] * h[2, 2] - h[1, 2] * h[2, 0])
-               + h[0, 2] * (h[1, 0] * h[2, 1] - h[1, 1] * h[2, 0]))
+        vol = det3(S.cell_hsize)
     done = out[O_UNBALANCED] < max_unb
     for k in range(3):
         out[O_STRAIN + k] = math.log(S.cell_trsf[k, k])

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from granum._jit import jit
 
 #: squared rotation angle [rad^2] below which :func:`quat_from_rotvec` uses its series (|r| < 0.1 rad)
@@ -135,3 +137,29 @@ def matvec(m, v):
     return (m[0, 0] * v[0] + m[0, 1] * v[1] + m[0, 2] * v[2],
             m[1, 0] * v[0] + m[1, 1] * v[1] + m[1, 2] * v[2],
             m[2, 0] * v[0] + m[2, 1] * v[1] + m[2, 2] * v[2])
+
+
+@jit
+def det3(m):
+    """Determinant of a (3, 3) array by cofactors along the first row (exact for diagonal matrices, unlike LU).
+
+    Written out rather than ``np.linalg.det``: compiled code with NumPy's linear algebra needs SciPy's
+    LAPACK, which granum does not depend on."""
+    return (m[0, 0] * (m[1, 1] * m[2, 2] - m[1, 2] * m[2, 1]) - m[0, 1] * (m[1, 0] * m[2, 2] - m[1, 2] * m[2, 0])
+            + m[0, 2] * (m[1, 0] * m[2, 1] - m[1, 1] * m[2, 0]))
+
+
+@jit
+def inv3(m):
+    """Inverse of a (3, 3) array as its adjugate over :func:`det3`, a new (3, 3) array.
+
+    A singular matrix gives inf/NaN entries (IEEE division), as Eigen's ``inverse()`` in YADE."""
+    r = 1.0 / det3(m)
+    out = np.empty((3, 3))
+    for i in range(3):
+        i1, i2 = (i + 1) % 3, (i + 2) % 3
+        for j in range(3):
+            j1, j2 = (j + 1) % 3, (j + 2) % 3
+            # cofactor C[j, i] (cyclic indices carry the sign); out = C^T / det
+            out[i, j] = (m[j1, i1] * m[j2, i2] - m[j1, i2] * m[j2, i1]) * r
+    return out

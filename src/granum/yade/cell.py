@@ -11,12 +11,10 @@ from __future__ import annotations
 import numpy as np
 
 from granum.mathtypes import Matrix3, Vector3, as_mat3, as_vec3
+from granum.physics.vec import det3 as _compiled_det3
 
-
-def det3(m) -> float:
-    """Determinant of a 3x3 matrix by cofactors (exact for diagonal cells, unlike LU)."""
-    return float(m[0, 0] * (m[1, 1] * m[2, 2] - m[1, 2] * m[2, 1]) - m[0, 1] * (m[1, 0] * m[2, 2] - m[1, 2] * m[2, 0])
-                 + m[0, 2] * (m[1, 0] * m[2, 1] - m[1, 1] * m[2, 0]))
+#: the kernels' determinant, run as Python (no compilation for a cell's volume)
+det3 = _compiled_det3.py_func
 
 
 def _matrix(a) -> Matrix3:
@@ -49,8 +47,8 @@ class Cell:
     @hSize.setter
     def hSize(self, value) -> None:
         h = as_mat3(value)
-        if not np.all(np.isfinite(h)) or not np.linalg.det(h) > 0:
-            raise ValueError(f"Cell.hSize must be finite with a positive volume, got det = {np.linalg.det(h)!r}")
+        if not np.all(np.isfinite(h)) or not det3(h) > 0:
+            raise ValueError(f"Cell.hSize must be finite with a positive volume, got det = {det3(h)!r}")
         s = self._scene
         s.cell_hsize[:] = h
         s.cell_ref_hsize[:] = h
