@@ -45,6 +45,9 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("-j", "--threads", type=int, default=None, help="number of compute threads (default: all cores)")
     p.add_argument("-n", action="store_true", help="accepted for YADE compatibility (granum is always headless)")
     p.add_argument("-x", action="store_true", help="accepted for YADE compatibility (exit when the script ends)")
+    p.add_argument("--wait", action="store_true",
+                   help="when the script returns with a run going on in the background (O.run()), let it go on "
+                        "until the script's own hooks pause it (or Ctrl-C); without it the run stops there")
     p.add_argument("--version", action="version", version=f"granum {__version__}")
     p.add_argument("script", nargs="?", help="YADE script to run")
     p.add_argument("args", nargs=argparse.REMAINDER, help="arguments passed to the script as sys.argv[1:]")
@@ -65,8 +68,9 @@ def _set_threads(n: int | None) -> None:
     numba.set_num_threads(n)
 
 
-def run_script(path: str, argv: list[str]) -> None:
-    """Execute a YADE script as ``__main__`` with the YADE namespace."""
+def run_script(path: str, argv: list[str], threads: int | None = None) -> None:
+    """Execute a YADE script as ``__main__`` with the YADE namespace (``threads``: the -j option, for
+    ``opts.threads``)."""
     install_yade_alias()
     import granum.yade as gy
 
@@ -78,6 +82,9 @@ def run_script(path: str, argv: list[str]) -> None:
     module.__builtins__ = __builtins__
     sys.modules["__main__"] = module
     sys.argv = [path] + list(argv)
+    gy.opts.script = path
+    gy.opts.threads = threads
+    gy.opts.args[:] = sys.argv   # the same list as the namespace's `args`, as in YADE
     sys.path.insert(0, os.path.dirname(os.path.abspath(path)))
     gy.O._namespace = module.__dict__
     exec(compile(source, path, "exec"), module.__dict__)
@@ -115,7 +122,27 @@ def main(argv: list[str] | None = None) -> int:
     if not os.path.exists(args.script):
         print(f"granum: no such script: {args.script}", file=sys.stderr)
         return 2
-    run_script(args.script, args.args)
+    run_script(args.script, args.args, args.threads)
+    return finish_background_run(args.wait)
+
+
+def finish_background_run(wait: bool) -> int:
+    """What happens to a background run (``O.run()``) still going on when the script returns: it stops at
+    the next step boundary, as under ``yade -x`` (the process must not end while compiled threads run), or
+    with ``wait`` goes on until paused (Ctrl-C pauses it). The exit status: 1 if the run failed."""
+    from granum.yade import O
+
+    if not O.running:
+        return 0
+    if not wait:
+        O.pause()
+    try:
+        O.wait()
+    except KeyboardInterrupt:
+        O.pause()
+        O.wait()
+    except Exception:  # noqa: BLE001 - the run's thread printed the traceback when it failed
+        return 1
     return 0
 
 

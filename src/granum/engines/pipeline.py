@@ -39,26 +39,61 @@ class ForceResetter(GlobalEngine):
 
 
 class Dispatcher:
-    """A list of functors of one role (YADE's BoundDispatcher, IGeomDispatcher, ...)."""
+    """A list of functors of one role (YADE's ``Dispatcher``); see the named subclasses below.
 
-    def __init__(self, role: str, owner: str, items=()):
-        self._role, self._owner = role, owner
-        self.functors = list(items)
+    As in YADE, a functor serving the same types as one listed before it replaces that one (in its
+    place): ``LawDispatcher([law, law])`` holds one functor.
+    """
+
+    #: the functor role this dispatcher holds ("bound", "geom", "phys", "law")
+    role = ""
+
+    def __init__(self, functors=(), owner: str = ""):
+        self._owner = owner or type(self).__name__
+        self.functors = functors
 
     @property
     def functors(self) -> list:
-        return self._functors
+        return list(self._functors)
 
     @functors.setter
     def functors(self, items) -> None:
-        items = list(items)
+        by_types: dict = {}
         for f in items:
-            check_role(f, self._role, self._owner)
-        self._functors = items
+            check_role(f, self.role, self._owner)
+            by_types[f.spec.types] = f   # dict order: the first place, the last functor
+        self._functors = list(by_types.values())
 
     def dispMatrix(self, names: bool = True) -> dict:
         """Which functor serves which pair of types."""
         return {f.spec.types: type(f).__name__ for f in self._functors}
+
+    def __repr__(self) -> str:
+        return f"<{type(self).__name__} with {len(self._functors)} functors>"
+
+
+class BoundDispatcher(Dispatcher):
+    """The bound functors (``Bo1_*``) of a collider."""
+
+    role = "bound"
+
+
+class IGeomDispatcher(Dispatcher):
+    """The geometry functors (``Ig2_*``) of an InteractionLoop."""
+
+    role = "geom"
+
+
+class IPhysDispatcher(Dispatcher):
+    """The physics functors (``Ip2_*``) of an InteractionLoop."""
+
+    role = "phys"
+
+
+class LawDispatcher(Dispatcher):
+    """The constitutive-law functors (``Law2_*``) of an InteractionLoop."""
+
+    role = "law"
 
 
 def _no_callbacks(owner, value):
@@ -67,10 +102,15 @@ def _no_callbacks(owner, value):
     return []
 
 
-def _dispatcher(owner, value):
-    if not isinstance(value, Dispatcher):
-        raise TypeError(f"{type(owner).__name__}: expected a dispatcher, got {value!r}")
-    return value
+def _dispatcher(kind: type):
+    """Converter of a dispatcher attribute: a ``kind`` instance."""
+
+    def convert(owner, value):
+        if not isinstance(value, kind):
+            raise TypeError(f"{type(owner).__name__}: expected a {kind.__name__}, got {value!r}")
+        return value
+
+    return convert
 
 
 class InsertionSortCollider(GlobalEngine):
@@ -103,12 +143,26 @@ class InsertionSortCollider(GlobalEngine):
         "keepListsShort": Attr(False, "Accepted for compatibility", to_bool),
         "smartInsertErase": Attr(False, "Accepted for compatibility", to_bool),
         "newton": Attr(None, "Accepted for compatibility"),
-        "boundDispatcher": Attr(None, "The bound functors (BoundDispatcher)", _dispatcher),
+        "boundDispatcher": Attr(None, "The bound functors", _dispatcher(BoundDispatcher)),
+    }
+
+    #: options of older YADE versions that YADE 2023 no longer has, refused by name (stale scripts use them)
+    RETIRED = {
+        "nBins": "the binned sort of old YADE versions",
+        "binCoeff": "the binned sort of old YADE versions",
+        "binOverlap": "the binned sort of old YADE versions",
+        "maxRefRelStep": "the binned sort of old YADE versions",
+        "histInterval": "the binned sort of old YADE versions",
+        "sweepLength": "the sweep distance of old YADE versions (see verletDist)",
     }
 
     def __init__(self, boundFunctors=(), **kw):
+        for name in kw:
+            if name in self.RETIRED:
+                raise AttributeError(f"InsertionSortCollider.{name}: {self.RETIRED[name]}; YADE 2023 has no such "
+                                     f"option either (\"No such attribute: {name}\"): remove it from the script")
         super().__init__(**kw)
-        self.boundDispatcher = Dispatcher("bound", "InsertionSortCollider", boundFunctors)
+        self.boundDispatcher = BoundDispatcher(boundFunctors, "InsertionSortCollider")
 
     def functors(self) -> list:
         return list(self.boundDispatcher.functors)
@@ -130,9 +184,9 @@ class InteractionLoop(GlobalEngine):
 
     stage = "granum.kernels.interaction:interaction_stage"
     _attrs = {
-        "geomDispatcher": Attr(None, "The IGeom functors (IGeomDispatcher)", _dispatcher),
-        "physDispatcher": Attr(None, "The IPhys functors (IPhysDispatcher)", _dispatcher),
-        "lawDispatcher": Attr(None, "The law functors (LawDispatcher)", _dispatcher),
+        "geomDispatcher": Attr(None, "The IGeom functors", _dispatcher(IGeomDispatcher)),
+        "physDispatcher": Attr(None, "The IPhys functors", _dispatcher(IPhysDispatcher)),
+        "lawDispatcher": Attr(None, "The law functors", _dispatcher(LawDispatcher)),
         "callbacks": Attr([], "Interaction callbacks (not supported: must stay empty)", _no_callbacks),
         "loopOnSortedInteractions": Attr(False, "Accepted for compatibility (granum's order is always fixed)",
                                          to_bool),
@@ -140,9 +194,9 @@ class InteractionLoop(GlobalEngine):
 
     def __init__(self, geoms=(), physs=(), laws=(), **kw):
         super().__init__(**kw)
-        self.geomDispatcher = Dispatcher("geom", "InteractionLoop (IGeom functors)", geoms)
-        self.physDispatcher = Dispatcher("phys", "InteractionLoop (IPhys functors)", physs)
-        self.lawDispatcher = Dispatcher("law", "InteractionLoop (Law functors)", laws)
+        self.geomDispatcher = IGeomDispatcher(geoms, "InteractionLoop (IGeom functors)")
+        self.physDispatcher = IPhysDispatcher(physs, "InteractionLoop (IPhys functors)")
+        self.lawDispatcher = LawDispatcher(laws, "InteractionLoop (Law functors)")
 
     def functors(self) -> list:
         return self.geomDispatcher.functors + self.physDispatcher.functors + self.lawDispatcher.functors

@@ -9,8 +9,18 @@ run by the ``granum`` launcher get it automatically, and there ``import yade`` a
 
 from __future__ import annotations
 
+import argparse as _argparse
+import doctest as _doctest
+import itertools as _itertools
 import math as _math
+import os as _os
+import random as _random
 import sys as _sys
+import time as _time
+import warnings as _warnings
+
+import numpy as _numpy
+from future import standard_library as _standard_library
 
 from granum import idem
 from granum.engines.base import Engine, GlobalEngine, PartialEngine, PeriodicEngine
@@ -19,10 +29,15 @@ from granum.engines.functors import CLASSES as _FUNCTORS
 from granum.engines.functors import BoundFunctor, Functor, IGeomFunctor, IPhysFunctor, LawFunctor
 from granum.engines.kinematic import ForceEngine, RotationEngine, TranslationEngine
 from granum.engines.pipeline import (
+    BoundDispatcher,
+    Dispatcher,
     ForceResetter,
     GravityEngine,
+    IGeomDispatcher,
     InsertionSortCollider,
     InteractionLoop,
+    IPhysDispatcher,
+    LawDispatcher,
     NewtonIntegrator,
 )
 from granum.engines.pyrunner import PyRunner
@@ -70,7 +85,9 @@ _namespace.update(
     PeriodicEngine=PeriodicEngine, Functor=Functor, BoundFunctor=BoundFunctor, IGeomFunctor=IGeomFunctor,
     IPhysFunctor=IPhysFunctor, LawFunctor=LawFunctor, ForceResetter=ForceResetter, GravityEngine=GravityEngine,
     InsertionSortCollider=InsertionSortCollider, InteractionLoop=InteractionLoop, NewtonIntegrator=NewtonIntegrator,
-    PyRunner=PyRunner, PeriTriaxController=PeriTriaxController,
+    PyRunner=PyRunner, PeriTriaxController=PeriTriaxController, Dispatcher=Dispatcher,
+    BoundDispatcher=BoundDispatcher, IGeomDispatcher=IGeomDispatcher, IPhysDispatcher=IPhysDispatcher,
+    LawDispatcher=LawDispatcher,
     ForceEngine=ForceEngine, TranslationEngine=TranslationEngine, RotationEngine=RotationEngine,
     SimulationError=SimulationError, Body=Body, State=State, Shape=Shape, Sphere=Sphere, Facet=Facet, Wall=Wall,
     Box=Box, Clump=Clump, Aabb=Aabb, Cell=Cell, Interaction=Interaction, Vector2=Vector2, Vector2i=Vector2i,
@@ -79,6 +96,17 @@ _namespace.update(
     readParamsFromTable=readParamsFromTable, waitIfBatch=waitIfBatch, runningInBatch=runningInBatch,
     utils=utils, geom=geom, pack=pack, plot=plot, qt=qt, timing=timing, ymport=ymport, export=export,
 )
+#: YADE's command-line options as its launcher parses them (``opts.threads``...); granum's launcher fills in
+#: ``threads``, ``script`` and ``args``
+opts = _argparse.Namespace(version=False, threads=None, cores=None, updateScripts=None, nice=None, exitAfter=True,
+                           verbosity=None, nogui=True, test=False, check=False, checkall=False, performance=False,
+                           quickperformance=False, stdperformance=None, script=None, args=[], impLibraries=None,
+                           mpi_mode=False)
+# the modules and names YADE's launcher leaves in a script's namespace
+_namespace.update(sys=_sys, os=_os, time=_time, math=_math, random=_random, numpy=_numpy, argparse=_argparse,
+                  itertools=_itertools, warnings=_warnings, doctest=_doctest, standard_library=_standard_library,
+                  arange=_numpy.arange, opts=opts, args=opts.args)
+_namespace.update({name: getattr(pack, name) for name in pack.__all__ if not name.endswith("Centers")})
 _namespace.update(VTKRecorder=VTKRecorder, SnapshotEngine=SnapshotEngine, makeVideo=makeVideo,
                   idem=idem, IDEMSolver=IDEMSolver, yade=_sys.modules[__name__])
 globals().update(_namespace)

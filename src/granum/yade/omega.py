@@ -9,10 +9,12 @@ are re-raised by ``O.wait()``.
 
 from __future__ import annotations
 
+import atexit
 import builtins
 import contextlib
 import sys
 import threading
+import time
 
 import numpy as np
 
@@ -27,6 +29,9 @@ from granum.yade.cell import Cell
 from granum.yade.interactions import InteractionContainer
 from granum.yade.materials import MaterialContainer, default_material
 from granum.yade.progress import Progress, progress_wanted
+
+#: prefix of :attr:`Omega.filename` for a scene kept in memory by ``O.saveTmp``
+_MEMORY = ":memory:"
 
 
 class EnergyTracker:
@@ -140,9 +145,23 @@ class ForceContainer:
 
 
 class Omega:
-    """The YADE ``Omega`` object (``O``)."""
+    """The YADE ``Omega`` object (``O``).
+
+    There is one: ``Omega()`` returns ``O`` (YADE scripts write ``o = Omega()`` and expect the same
+    simulation). It holds a list of scenes (``addScene``, ``switchToScene``, ``thisScene``) and, apart,
+    the alternative scene of ``switchScene``.
+    """
+
+    _instance: Omega | None = None
+
+    def __new__(cls):
+        if cls._instance is None:
+            cls._instance = super().__new__(cls)
+        return cls._instance
 
     def __init__(self):
+        if getattr(self, "_frozen", False):
+            return   # Omega() again: the same object, untouched
         self._snapshots: dict = {}
         self._thread: threading.Thread | None = None
         self._error: BaseException | None = None
@@ -155,7 +174,17 @@ class Omega:
         self.energy = EnergyTracker(self)
         self.cell = Cell(self)
         self.timingEnabled = False
-        self._new_scene(Scene(), MaterialContainer())
+        #: Counter of force synchronisations (YADE profiling; granum's forces are always in sync)
+        self.forceSyncCount = 0
+        #: Objects a GUI keeps with the scene (YADE); not saved by O.save
+        self.miscParams: list = []
+        self.filename: str | None = None
+        self._scenes: list = [(Scene(), MaterialContainer())]
+        self._this_scene = 0
+        self._other_scene: tuple | None = None
+        self._started = time.monotonic()
+        self._speed = 0.0
+        self._new_scene(*self._scenes[0])
         self._frozen = True
 
     def __setattr__(self, name, value):
@@ -165,10 +194,50 @@ class Omega:
         object.__setattr__(self, name, value)
 
     def _new_scene(self, scene: Scene, materials: MaterialContainer) -> None:
+        """Make ``scene`` the current one, in the current slot of the scene list."""
         self._scene = scene
         self.materials = materials
+        self._scenes[self._this_scene] = (scene, materials)
         self._runner = Runner(scene, self)
         self._bind_labels(scene.engines)
+
+    # ---- several scenes ------------------------------------------------------------------
+    @property
+    def thisScene(self) -> int:
+        """Index of the current scene in the scene list (see :meth:`addScene`)."""
+        return self._this_scene
+
+    def addScene(self) -> int:
+        """Add a new empty scene to the list; its index (the current scene stays current)."""
+        self._scenes.append((Scene(), MaterialContainer()))
+        return len(self._scenes) - 1
+
+    def switchToScene(self, i: int) -> None:
+        """Make scene ``i`` of the list current (stops a running simulation first)."""
+        if not 0 <= int(i) < len(self._scenes):
+            raise IndexError(f"O.switchToScene: scene {i} has not been created yet (O.addScene() creates one; "
+                             f"there are {len(self._scenes)})")
+        self._stop_and_wait()
+        self._this_scene = int(i)
+        self._new_scene(*self._scenes[self._this_scene])
+
+    def switchScene(self) -> None:
+        """Swap the current scene with the alternative one (empty at first); again swaps back."""
+        self._stop_and_wait()
+        other = self._other_scene or (Scene(), MaterialContainer())
+        self._other_scene = (self._scene, self.materials)
+        self._new_scene(*other)
+
+    def resetThisScene(self) -> None:
+        """Replace the current scene by an empty one (the other scenes stay)."""
+        self._stop_and_wait()
+        self._new_scene(Scene(), MaterialContainer())
+
+    resetCurrentScene = resetThisScene
+
+    def resetAllScenes(self) -> None:
+        """Drop every scene, the alternative one too, and start with one empty scene (as :meth:`reset`)."""
+        self.reset()
 
     # ---- namespace of Python commands --------------------------------------------------
     def namespace(self) -> dict:
@@ -222,6 +291,58 @@ class Omega:
         self._scene.stop_at_time = float(value)
 
     @property
+    def realtime(self) -> float:
+        """Wall-clock time since granum started or since :meth:`resetTime` [s]."""
+        return time.monotonic() - self._started
+
+    @property
+    def speed(self) -> float:
+        """Steps per wall-clock second of the last run [1/s] (0 before any run)."""
+        return self._speed
+
+    def resetTime(self) -> None:
+        """Set the step number, the simulated time and the wall-clock time (:attr:`realtime`) back to 0."""
+        self._scene.iter = 0
+        self._scene.time = 0.0
+        self._started = time.monotonic()
+
+    @property
+    def dynDtAvailable(self) -> bool:
+        """Whether O.engines has a TimeStepper that :attr:`dynDt` could switch on (granum has none yet)."""
+        return False
+
+    @property
+    def dynDt(self) -> bool:
+        """Whether a TimeStepper engine sets O.dt (never in granum yet: GlobalStiffnessTimeStepper is not
+        implemented)."""
+        return False
+
+    @dynDt.setter
+    def dynDt(self, on: bool) -> None:
+        if on:
+            raise RuntimeError("O.dynDt: no TimeStepper found in O.engines (granum does not implement "
+                               "GlobalStiffnessTimeStepper yet)")
+
+    #: the name of :attr:`dynDt` in YADE before 2018
+    usesTimeStepper = dynDt
+
+    @property
+    def subStep(self) -> int:
+        """-1: granum runs whole steps (YADE's sub-stepping, one engine per O.step, is not implemented)."""
+        return -1
+
+    @property
+    def subStepping(self) -> bool:
+        """False: see :attr:`subStep`."""
+        return False
+
+    @subStepping.setter
+    def subStepping(self, on: bool) -> None:
+        if on:
+            raise NotImplementedError("O.subStepping: granum runs whole steps; running one engine per O.step() "
+                                      "is not implemented")
+
+    @property
     def trackEnergy(self) -> bool:
         return self._scene.track_energy
 
@@ -270,6 +391,45 @@ class Omega:
                         raise ValueError(f"label {obj.label!r} is not a valid Python identifier")
                     setattr(builtins, obj.label, obj)
 
+    def labeledEngine(self, label: str):
+        """The engine (or functor of an engine) of O.engines labelled ``label``."""
+        for e in self._scene.engines:
+            for obj in [e] + e.functors():
+                if obj.label == label:
+                    return obj
+        raise ValueError(f"No engine labeled {label!r}")
+
+    # ---- the class hierarchy (yade.system) --------------------------------------------------
+    def isChildClassOf(self, child: str, base: str) -> bool:
+        """Whether the class named ``child`` derives from the class named ``base``."""
+        from granum.yade import system
+
+        return system.isChildClassOf(child, base)
+
+    def childClassesNonrecursive(self, base: str) -> list:
+        """Names of the classes deriving directly from the class named ``base``."""
+        from granum.yade import system
+
+        return sorted(system.childClasses(base, recurse=False))
+
+    def plugins(self) -> list:
+        """Names of every class of the object model (YADE: of its plugins)."""
+        from granum.yade import wrapper
+
+        return sorted(wrapper.CLASSES)
+
+    def disableGdb(self) -> None:
+        """Accepted: YADE stops attaching its debugger to crashes; granum never attaches one."""
+
+    def bufferFromIntrsct(self, *args, **kw):
+        raise NotImplementedError("O.bufferFromIntrsct: YADE's MPI exchange (yade.mpy) is not implemented in granum")
+
+    def intrsctToBytes(self, *args, **kw):
+        raise NotImplementedError("O.intrsctToBytes: YADE's MPI exchange (yade.mpy) is not implemented in granum")
+
+    def runEngine(self, engine) -> None:
+        raise NotImplementedError("O.runEngine: running one engine outside O.step() is not implemented in granum")
+
     # ---- running -------------------------------------------------------------------------
     @property
     def running(self) -> bool:
@@ -278,6 +438,7 @@ class Omega:
     def _loop(self, progress: Progress | None = None) -> None:
         scene = self._scene
         first = scene.iter
+        started = time.monotonic()
         try:
             while not self._stop:
                 target = self.stopAtIter
@@ -289,6 +450,8 @@ class Omega:
                 if scene.iter == target or (stop_time < np.inf and scene.time >= stop_time):
                     break
         finally:
+            elapsed = time.monotonic() - started
+            self._speed = (scene.iter - first) / elapsed if elapsed > 0 else 0.0
             self._running = False
             self._stop = False
             scene.forget_record()
@@ -350,20 +513,27 @@ class Omega:
 
     # ---- scenes --------------------------------------------------------------------------
     def reset(self) -> None:
-        """Start a new empty scene (bodies, interactions, engines, materials, clock)."""
+        """Start anew: one empty scene (bodies, interactions, engines, materials, clock); the scenes of
+        :meth:`addScene` and :meth:`switchScene` are dropped too, as in YADE."""
         self._stop_and_wait()
-        self._new_scene(Scene(), MaterialContainer())
+        self._scenes = [(Scene(), MaterialContainer())]
+        self._this_scene = 0
+        self._other_scene = None
+        self.filename = None
+        self._new_scene(*self._scenes[0])
 
     def _stop_and_wait(self) -> None:
         if self._running and self._thread is not threading.current_thread():
             self.pause()
             self._thread.join()
 
-    def save(self, file) -> None:
+    def save(self, file, quiet: bool = False) -> None:
         """Save the whole scene to ``file`` (format by extension: ``.yade``, ``.xml``, ``.h5``, optionally
-        ``.gz``/``.bz2``; see :mod:`granum.io.checkpoint`). The file is written atomically."""
+        ``.gz``/``.bz2``; see :mod:`granum.io.checkpoint`). The file is written atomically. ``quiet`` is
+        accepted (granum prints nothing either way)."""
         with self._paused():
             checkpoint.checkpoint_write(file, self._scene, self.materials)
+        self.filename = str(file)
 
     @contextlib.contextmanager
     def _paused(self):
@@ -383,25 +553,71 @@ class Omega:
             if self._error is None and not ended:
                 self.run()
 
-    def load(self, file) -> None:
+    def load(self, file, quiet: bool = False) -> None:
         """Replace the scene by the one saved in ``file`` with :meth:`save` (stops a running simulation)."""
         self._stop_and_wait()
         self._new_scene(*checkpoint.checkpoint_read(file))
+        self.filename = str(file)
 
-    def saveTmp(self, mark: str = "") -> None:
+    def reload(self, quiet: bool = False) -> None:
+        """Load again the file the scene was last saved to or loaded from (:attr:`filename`; a scene kept
+        with :meth:`saveTmp` is reloaded from memory)."""
+        if self.filename is None:
+            raise RuntimeError("O.reload: the scene was never saved or loaded (O.filename is None)")
+        if self.filename.startswith(_MEMORY):
+            self.loadTmp(self.filename[len(_MEMORY):])
+        else:
+            self.load(self.filename)
+
+    def saveTmp(self, mark: str = "", quiet: bool = False) -> None:
         """Keep the whole scene in memory under ``mark`` (the checkpoint :meth:`save` writes, as bytes)."""
         with self._paused():
             self._snapshots[mark] = checkpoint.checkpoint_bytes(self._scene, self.materials)
+        self.filename = _MEMORY + mark
 
-    def loadTmp(self, mark: str = "") -> None:
-        """Replace the scene by the copy saved with ``saveTmp(mark)``."""
+    def _tmp(self, mark: str, who: str) -> bytes:
         if mark not in self._snapshots:
-            raise RuntimeError(f"O.loadTmp: no scene saved under mark {mark!r} (use O.saveTmp first)")
+            raise RuntimeError(f"O.{who}: no scene saved under mark {mark!r} (use O.saveTmp first)")
+        return self._snapshots[mark]
+
+    def loadTmp(self, mark: str = "", quiet: bool = False) -> None:
+        """Replace the scene by the copy saved with ``saveTmp(mark)``."""
+        data = self._tmp(mark, "loadTmp")
         self._stop_and_wait()
-        self._new_scene(*checkpoint.checkpoint_from_bytes(self._snapshots[mark], f"O.saveTmp({mark!r})"))
+        self._new_scene(*checkpoint.checkpoint_from_bytes(data, f"O.saveTmp({mark!r})"))
+        self.filename = _MEMORY + mark
 
     def lsTmp(self) -> list:
         return list(self._snapshots)
+
+    def tmpToString(self, mark: str = "") -> bytes:
+        """The scene kept with ``saveTmp(mark)``, as the bytes of a ``.yade`` checkpoint."""
+        return self._tmp(mark, "tmpToString")
+
+    def tmpToFile(self, mark: str, filename: str) -> None:
+        """Write the scene kept with ``saveTmp(mark)`` to ``filename`` (a ``.yade`` checkpoint, atomically)."""
+        from granum.io.atomic import write_bytes
+
+        write_bytes(filename, self._tmp(mark, "tmpToFile"))
+
+    def tmpFilename(self) -> str:
+        """A new file name in the temporary folder, for the user to save to (YADE's ``O.tmpFilename``)."""
+        import tempfile
+
+        with tempfile.NamedTemporaryFile(prefix="granum-tmp-", delete=False) as fh:
+            return fh.name
+
+    def sceneToString(self) -> bytes:
+        """The whole scene as the bytes of a ``.yade`` checkpoint (see :meth:`stringToScene`)."""
+        with self._paused():
+            return checkpoint.checkpoint_bytes(self._scene, self.materials)
+
+    def stringToScene(self, data: bytes, mark: str = "") -> None:
+        """Replace the scene by one from :meth:`sceneToString` (validated as any checkpoint)."""
+        if not isinstance(data, bytes | bytearray):
+            raise TypeError(f"O.stringToScene: expected the bytes of O.sceneToString(), got {type(data).__name__}")
+        self._stop_and_wait()
+        self._new_scene(*checkpoint.checkpoint_from_bytes(bytes(data), "O.stringToScene"))
 
     def default_material(self):
         """The material of bodies created with ``material=-1``: the last in O.materials,
@@ -415,3 +631,6 @@ class Omega:
 
 
 O = Omega()
+# a program that ends while a background run goes on (a script that returns after O.run()) would end
+# with compiled threads still running and abort: stop the run at a step boundary first
+atexit.register(O._stop_and_wait)
