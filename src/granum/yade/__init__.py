@@ -44,7 +44,21 @@ from granum.engines.pyrunner import PyRunner
 from granum.engines.runner import SimulationError
 from granum.idem import IDEMSolver
 from granum.mathtypes import Matrix3, Quaternion, Vector2, Vector2i, Vector3, Vector3i, Vector6
-from granum.yade import export, geom, pack, plot, qt, timing, utils, ymport
+from granum.yade import (  # noqa: F401 - the yade.X modules
+    config,
+    export,
+    geom,
+    libVersions,
+    log,
+    math,
+    minieigenHP,
+    pack,
+    plot,
+    qt,
+    timing,
+    utils,
+    ymport,
+)
 from granum.yade.batch import readParamsFromTable, runningInBatch, waitIfBatch
 from granum.yade.bodies import Aabb, Body, Box, Clump, Facet, Shape, Sphere, State, Wall
 from granum.yade.cell import Cell
@@ -109,8 +123,13 @@ _namespace.update(sys=_sys, os=_os, time=_time, math=_math, random=_random, nump
 _namespace.update({name: getattr(pack, name) for name in pack.__all__ if not name.endswith("Centers")})
 _namespace.update(VTKRecorder=VTKRecorder, SnapshotEngine=SnapshotEngine, makeVideo=makeVideo,
                   idem=idem, IDEMSolver=IDEMSolver, yade=_sys.modules[__name__])
+_namespace.update(features=config.features)
 globals().update(_namespace)
 __all__ = sorted(_namespace)
+# yade.math and yade.log are the modules of those names; scripts get Python's math and math.log, as in YADE
+for _module in ("math", "log"):
+    globals()[_module] = _sys.modules[f"{__name__}.{_module}"]
+    __all__.remove(_module)
 
 
 def namespace() -> dict:
