@@ -637,3 +637,13 @@ def test_inplace_operators_modify_the_object():
     vi = Vector3i(1, 2, 3)
     vi *= 2
     assert vi == (2, 4, 6) and vi._a.dtype == np.int64
+
+
+def test_quaternion_axis_angle_keywords_and_tuple():
+    """YADE's Quaternion(axis=..., angle=...), Quaternion((axis, angle)) and Quaternion((angle, axis))."""
+    expected = Quaternion(Vector3(1, 0, 0), math.pi / 2)
+    for q in (Quaternion(axis=Vector3(1, 0, 0), angle=math.pi / 2), Quaternion((Vector3(1, 0, 0), math.pi / 2)),
+              Quaternion((math.pi / 2, Vector3(1, 0, 0)))):
+        assert np.allclose(np.asarray(q), np.asarray(expected), atol=1e-15)
+    with pytest.raises(TypeError):
+        Quaternion(axis=Vector3(1, 0, 0))

@@ -542,15 +542,22 @@ class Quaternion(_Normed):
 
     YADE's ``q[0], q[1], q[2], q[3]`` are x, y, z, w (so are iteration and ``np.asarray(q)``);
     it prints in axis-angle form, ``Quaternion((1,0,0),0)``. Constructors, as in YADE: ``()``
-    (identity), ``(axis, angle)``, ``(angle, axis)``, ``(w, x, y, z)``, ``(Matrix3)``,
-    ``(Quaternion)``, ``(u, v)`` (the rotation taking direction u to direction v).
+    (identity), ``(axis, angle)``, ``(angle, axis)``, either pair as one tuple, ``axis=..., angle=...``,
+    ``(w, x, y, z)``, ``(Matrix3)``, ``(Quaternion)``, ``(u, v)`` (the rotation taking direction u to
+    direction v).
     """
 
     __slots__ = ()
     _shape, _what, _order = (4,), "Quaternion", (1, 2, 3, 0)
     Identity = _Const(lambda c: np.array([1.0, 0.0, 0.0, 0.0]))
 
-    def __init__(self, *args):
+    def __init__(self, *args, axis=None, angle=None):
+        if axis is not None or angle is not None:
+            if args or axis is None or angle is None:
+                raise TypeError("Quaternion(axis=..., angle=...) takes both keywords and nothing else")
+            args = (axis, angle)
+        if len(args) == 1 and isinstance(args[0], tuple) and len(args[0]) == 2:
+            args = args[0]  # Quaternion((axis, angle)) and Quaternion((angle, axis))
         real = [isinstance(x, numbers.Real) for x in args]
         if not args:
             self._a = np.array([1.0, 0.0, 0.0, 0.0])
