@@ -96,7 +96,8 @@ def main(argv: list[str] | None = None) -> int:
         print("yade_tests: YADE's test folder not found; install Debian's libyade or give --dir", file=sys.stderr)
         return 2
     if args.one:
-        print("YADE-TESTS-JSON " + json.dumps(run_one(args.one, folder)))
+        # on a line of its own: a test may leave its last line unfinished (print(..., end=" "))
+        print("\nYADE-TESTS-JSON " + json.dumps(run_one(args.one, folder)))
         return 0
     modules = args.modules or list(ALL_TESTS)
     report = {}
