@@ -151,3 +151,27 @@ def to_str(name: str):
         return value
 
     return convert
+
+
+def only_default(name: str, default):
+    """Converter of an attribute granum does not implement yet: any value but ``default`` is refused by name
+    (never accepted and ignored)."""
+
+    def convert(owner, value):
+        if value != default or isinstance(value, bool) != isinstance(default, bool):
+            raise NotImplementedError(f"{type(owner).__name__}.{name}={value!r}: not implemented in granum yet "
+                                      f"(only the default {default!r})")
+        return default
+
+    return convert
+
+
+def one_of(name: str, allowed: tuple):
+    """Converter to one of the integers ``allowed``, naming the attribute otherwise."""
+
+    def convert(owner, value):
+        if isinstance(value, bool) or value not in allowed:
+            raise ValueError(f"{type(owner).__name__}.{name} must be one of {allowed}, got {value!r}")
+        return int(value)
+
+    return convert

@@ -42,8 +42,12 @@ class PeriTriaxController(GlobalEngine):
         "doneHook": Attr("", "Python source run when the goal is reached", to_str("doneHook")),
         "dynCell": Attr(False, "Let the cell obey an equation of motion with mass ``mass``", to_bool),
         "mass": Attr(float("nan"), "Mass of the cell [kg] (default: the mass of all bodies)", to_float("mass")),
-        "externalWork": Attr(0.0, "Accepted for compatibility", readonly=True),
     }
+
+    @property
+    def externalWork(self) -> float:
+        """The work of the cell on the packing (YADE); not computed by granum yet."""
+        raise NotImplementedError("PeriTriaxController.externalWork is not computed by granum yet")
 
     def __init__(self, **kw):
         super().__init__(**kw)

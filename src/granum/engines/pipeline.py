@@ -12,7 +12,7 @@ import functools
 
 import numpy as np
 
-from granum.core.attrs import Attr, to_bool, to_float, to_int
+from granum.core.attrs import Attr, only_default, to_bool, to_float, to_int
 from granum.core.bodies import ShapeKind
 from granum.core.contacts import contact_width
 from granum.engines.base import GlobalEngine
@@ -47,6 +47,8 @@ class Dispatcher:
 
     #: the functor role this dispatcher holds ("bound", "geom", "phys", "law")
     role = ""
+    #: in YADE a dispatcher is an engine; in granum it is a part of its collider or InteractionLoop
+    yade_parent = "Engine"
 
     def __init__(self, functors=(), owner: str = ""):
         self._owner = owner or type(self).__name__
@@ -284,9 +286,11 @@ class NewtonIntegrator(GlobalEngine):
         "maxVelocitySq": Attr(0.0, "Accepted for compatibility", to_float("maxVelocitySq")),
         "exactAsphericalRot": Attr(True, "Integrate aspherical bodies with Euler's equations", to_bool),
         "warnNoForceReset": Attr(True, "Accepted for compatibility", to_bool),
-        "kinSplit": Attr(False, "Accepted for compatibility", to_bool),
+        "kinSplit": Attr(False, "Kinetic energy split in translation and rotation (not implemented yet: only False)",
+                         only_default("kinSplit", False)),
         "dampGravity": Attr(True, "Damping also acts on gravity (YADE's behaviour)", to_bool),
-        "mask": Attr(-1, "Accepted for compatibility", to_int("mask")),
+        "mask": Attr(-1, "Move only the bodies sharing a bit with this mask (not implemented yet: only -1, all)",
+                     only_default("mask", -1)),
         "prevVelGrad": Attr(Matrix3.Zero, "Velocity gradient of the periodic cell at the previous step [1/s]"),
     }
 

@@ -80,6 +80,7 @@ class _GlMeta(type):
 
 def _gl(name: str) -> type:
     return _GlMeta(name, (), {"__doc__": f"Display functor {name} (accepted; granum draws no OpenGL).",
+                              "yade_parent": "Functor" if name.startswith("Gl1_") else None,
                               "__init__": lambda self, **kw: self.__dict__.update(kw)})
 
 

@@ -392,8 +392,9 @@ class Aabb(_View):
 
     __slots__ = ()
 
-    def __init__(self, body: Body):
-        object.__setattr__(self, "_body", body)
+    def __init__(self, body: Body | None = None):
+        """The bound of ``body``; ``Aabb()`` is the bound of a new detached body (as YADE's bare ``Aabb()``)."""
+        object.__setattr__(self, "_body", Body() if body is None else body)
 
     @property
     def min(self):

@@ -26,7 +26,15 @@ class Cell:
 
     __slots__ = ("_omega",)
 
-    def __init__(self, omega):
+    def __init__(self, omega=None):
+        """The cell of ``omega``'s current scene; ``Cell()`` is a detached cell of an empty scene of its own
+        (as YADE's bare ``Cell()``), not the simulation's."""
+        if omega is None:
+            import types
+
+            from granum.core.scene import Scene
+
+            omega = types.SimpleNamespace(_scene=Scene())
         object.__setattr__(self, "_omega", omega)
 
     def __setattr__(self, name, value):

@@ -60,8 +60,10 @@ class _ContactView:
     __slots__ = ("_intr",)
     _fields: dict = {}
 
-    def __init__(self, intr):
-        object.__setattr__(self, "_intr", intr)
+    def __init__(self, intr=None):
+        """The geometry or physics of ``intr``; with no interaction (``FrictPhys()``), of a detached one,
+        whose attributes cannot be read (it is never real)."""
+        object.__setattr__(self, "_intr", Interaction() if intr is None else intr)
 
     def __getattr__(self, name):
         f = type(self)._fields.get(name)
@@ -112,7 +114,13 @@ class Interaction:
 
     __slots__ = ("_scene", "_id1", "_id2", "_cache")
 
-    def __init__(self, scene, id1: int, id2: int):
+    def __init__(self, scene=None, id1: int = -1, id2: int = -1):
+        """A view of the pair (``id1``, ``id2``) of ``scene``; ``Interaction()`` is a detached one that is
+        never real, as YADE's bare ``Interaction()``."""
+        if scene is None:
+            from granum.core.scene import Scene
+
+            scene = Scene()
         self._scene = scene
         self._id1, self._id2 = int(id1), int(id2)
         self._cache = None

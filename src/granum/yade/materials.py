@@ -9,7 +9,7 @@ Changing a material affects contacts created afterwards only, as in YADE.
 
 from __future__ import annotations
 
-from granum.core.attrs import Attr, Attributed, to_float, to_int, to_str
+from granum.core.attrs import Attr, Attributed, one_of, only_default, to_float, to_int, to_str
 from granum.physics import registry
 
 
@@ -41,9 +41,13 @@ class Material(Attributed):
 
 
 def _converter(p: registry.Param):
+    if not p.supported:
+        return only_default(p.name, p.default)
+    if p.name == "mRtype":
+        return one_of(p.name, (1, 2))
     if isinstance(p.default, bool):
         return lambda o, v: bool(v)
-    if isinstance(p.default, float) or (isinstance(p.default, int) and p.name != "mRtype"):
+    if isinstance(p.default, float):
         positive = p.name in ("density",)
         conv = to_float(p.name)
 

@@ -21,8 +21,16 @@ def _check_base(base: str) -> None:
 
 
 def _ancestors(cls: type) -> list[str]:
-    """Names of the object-model classes ``cls`` derives from, nearest first, then ``Serializable``."""
-    return [k.__name__ for k in cls.__mro__[1:] if wrapper.CLASSES.get(k.__name__) is k] + [ROOT]
+    """Names of the object-model classes ``cls`` derives from in YADE, nearest first, then ``Serializable``
+    (``Omega`` is no Serializable). A class whose YADE parent is not its Python base (the dispatchers are
+    engines in YADE, the display functors functors) names it in ``yade_parent``."""
+    if cls is O.__class__:
+        return []
+    names = [k.__name__ for k in cls.__mro__[1:] if wrapper.CLASSES.get(k.__name__) is k]
+    parent = getattr(cls, "yade_parent", None)
+    if parent and parent not in names:
+        names += [parent] + [n for n in _ancestors(wrapper.CLASSES[parent])[:-1] if n not in names]
+    return names + [ROOT]
 
 
 def childClasses(base: str, recurse: bool = True, includeBase: bool = False) -> set:
@@ -33,7 +41,7 @@ def childClasses(base: str, recurse: bool = True, includeBase: bool = False) -> 
     found = set()
     for name, cls in wrapper.CLASSES.items():
         parents = _ancestors(cls)
-        if (base in parents) if recurse else (parents[0] == base):
+        if (base in parents) if recurse else parents[:1] == [base]:
             found.add(name)
     if includeBase and (base in wrapper.CLASSES or base == ROOT):
         found.add(base)

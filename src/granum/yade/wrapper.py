@@ -12,11 +12,15 @@ import inspect
 import granum.yade as _yade
 from granum import mathtypes as _mathtypes
 
+#: modules whose classes are not part of the object model: the math types (yade.minieigenHP) and the packing
+#: classes and predicates (yade.pack)
+_NOT_MODEL = (_mathtypes.__name__, "granum.yade.pack", "granum.yade._packing")
+
 
 def _is_model_class(value) -> bool:
     """A class of YADE's object model: not a math type, not an exception, not a granum-only class."""
     return (inspect.isclass(value) and not issubclass(value, BaseException)
-            and value.__module__ != _mathtypes.__name__ and not value.__module__.startswith("granum.idem")
+            and value.__module__ not in _NOT_MODEL and not value.__module__.startswith("granum.idem")
             and value.__name__ != "clumpTemplate")
 
 
