@@ -307,7 +307,7 @@ def aabbExtrema(cutoff=0.0, centers=False):
     rr = 0.0 if centers else r[:, None]
     lo, hi = (p - rr).min(axis=0), (p + rr).max(axis=0)
     d = hi - lo
-    lo, hi = lo + cutoff * d, hi - cutoff * d
+    lo, hi = lo + 0.5 * cutoff * d, hi - 0.5 * cutoff * d  # YADE cuts cutoff*d in all, half per side
     return Vector3(*lo), Vector3(*hi)
 
 
@@ -431,3 +431,10 @@ def createInteraction(id1, id2):
     if s.contacts.ctr[C_STATUS]:
         O._runner.raise_status()
     return Interaction(s, id1, id2)
+
+
+# the rest of yade.utils, by theme; imported last because those modules call the helpers above
+from granum.yade.utils_extra import *  # noqa: E402, F403
+from granum.yade.utils_extra import __all__ as _extra  # noqa: E402
+
+__all__ += _extra

@@ -1,0 +1,198 @@
+"""More global measures of ``yade.utils``: momenta, boxes, forces across planes, size distribution.
+
+Vectorised NumPy over the scene's arrays, like the measures of :mod:`granum.yade.utils`,
+whose selection helpers they call. Vectors are returned as Vector3 [SI units].
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from granum.core.bodies import ShapeKind
+from granum.core.contacts import C_PAIRS, F_FN, F_FS, F_PEN, I_ID1, I_ID2
+from granum.mathtypes import Vector3, as_vec3
+from granum.yade.formulas import rotate
+from granum.yade.omega import O
+from granum.yade.utils import _live_contacts, _not_member, _spheres, aabbExtrema
+
+__all__ = [
+    "momentum", "angularMomentum", "aabbDim", "fractionalBox", "perpendicularArea", "sumFacetNormalForces",
+    "forcesOnPlane", "forcesOnCoordPlane", "maxOverlapRatio", "psd", "sumTorques", "numIntrsOfEachBody",
+    "getBodyIdsContacts", "negPosExtremeIds", "getSpheresVolume2D",
+]
+
+
+def _standalone_live():
+    """Ids of live bodies that move on their own (standalone bodies and clumps, not members)."""
+    b = O._scene.bodies
+    n = b.count
+    return np.nonzero(b.alive[:n] & _not_member(b, n))[0]
+
+
+def momentum():
+    """Linear momentum sum m v of all bodies, fixed ones included (as YADE) [kg m/s]."""
+    b = O._scene.bodies
+    ids = _standalone_live()
+    return Vector3(*(b.mass[ids, None] * b.vel[ids]).sum(axis=0))
+
+
+def angularMomentum(origin=(0.0, 0.0, 0.0)):
+    """Angular momentum about ``origin`` [kg m^2/s]: sum (x - origin) x m v + State.angMom.
+
+    As in YADE, spheres count by their orbital term only: State.angMom is kept for
+    aspherical bodies (0 for the others).
+    """
+    b = O._scene.bodies
+    ids = _standalone_live()
+    orbital = np.cross(b.pos[ids] - as_vec3(origin), b.mass[ids, None] * b.vel[ids]).sum(axis=0)
+    spin = b.stored("ang_mom")
+    if spin.shape[0]:
+        orbital = orbital + spin[ids].sum(axis=0)
+    return Vector3(*orbital)
+
+
+def aabbDim(cutoff=0.0, centers=False):
+    """Sizes of the spheres' bounding box, ``cutoff`` (relative) cut away on each side [m]."""
+    lo, hi = aabbExtrema(cutoff, centers)
+    return Vector3(*(np.asarray(hi._a) - np.asarray(lo._a)))
+
+
+def fractionalBox(fraction=1.0, minMax=None):
+    """``minMax`` (default: the spheres' bounding box) scaled by ``fraction`` about its centre [m]."""
+    lo, hi = (np.asarray(as_vec3(x)) for x in (minMax or aabbExtrema()))
+    c, half = 0.5 * (lo + hi), 0.5 * fraction * (hi - lo)
+    return Vector3(*(c - half)), Vector3(*(c + half))
+
+
+def perpendicularArea(axis):
+    """Area of the spheres' bounding box seen along ``axis`` (0, 1, 2) [m^2]."""
+    d = np.asarray(aabbDim()._a)
+    return float(np.prod(np.delete(d, axis)))
+
+
+def _global_facet_normals(ids: np.ndarray) -> np.ndarray:
+    s = O._scene
+    b = s.bodies
+    return rotate(b.ori[ids], s.shapes[ShapeKind.FACET].normal[b.shape_row[ids]])
+
+
+def sumFacetNormalForces(ids, axis=-1) -> float:
+    """Sum over facets ``ids`` of the force on each projected on its normal [N].
+
+    With ``axis`` >= 0, that component of each normal is dropped first: what YADE
+    2023.02a computes, although its documentation says the axis replaces the normal.
+    """
+    ids = np.asarray(list(ids), dtype=np.int64)
+    b = O._scene.bodies
+    wrong = ids[b.shape_kind[ids] != ShapeKind.FACET]
+    if wrong.size:
+        raise TypeError(f"sumFacetNormalForces: body {int(wrong[0])} is not a Facet")
+    n = _global_facet_normals(ids)
+    if axis >= 0:
+        n[:, axis] = 0.0
+    return float(np.einsum("ki,ki->", b.force[ids], n))
+
+
+def forcesOnPlane(planePt, normal):
+    """Sum of the contact forces (normal + shear) of the contacts whose two bodies lie on opposite
+    sides of the plane through ``planePt`` with ``normal``: the force on the body on the positive side [N]."""
+    n = as_vec3(normal)
+    n = n / np.linalg.norm(n)
+    b = O._scene.bodies
+    C, rows = _live_contacts()
+    side1 = (b.pos[C.con_i[rows, I_ID1]] - as_vec3(planePt)) @ n
+    side2 = (b.pos[C.con_i[rows, I_ID2]] - as_vec3(planePt)) @ n
+    cross = np.sign(side1) * np.sign(side2) < 0
+    f = C.con_f[rows, F_FN:F_FN + 3] + C.con_f[rows, F_FS:F_FS + 3]  # on body 2
+    return Vector3(*(np.sign(side2[cross])[:, None] * f[cross]).sum(axis=0))
+
+
+def forcesOnCoordPlane(coord, axis):
+    """:func:`forcesOnPlane` for the plane x[axis] = ``coord`` with normal along +axis [N]."""
+    pt, n = np.zeros(3), np.zeros(3)
+    pt[axis], n[axis] = coord, 1.0
+    return forcesOnPlane(pt, n)
+
+
+def maxOverlapRatio() -> float:
+    """Largest u_N / (2 r1 r2 / (r1 + r2)) over sphere-sphere contacts [-] (0 without any)."""
+    s = O._scene
+    b = s.bodies
+    C, rows = _live_contacts()
+    id1, id2 = C.con_i[rows, I_ID1], C.con_i[rows, I_ID2]
+    both = (b.shape_kind[id1] == ShapeKind.SPHERE) & (b.shape_kind[id2] == ShapeKind.SPHERE)
+    if not both.any():
+        return 0.0
+    radius = s.shapes[ShapeKind.SPHERE].radius
+    r1, r2 = radius[b.shape_row[id1[both]]], radius[b.shape_row[id2[both]]]
+    return float(np.max(C.con_f[rows[both], F_PEN] * (r1 + r2) / (2.0 * r1 * r2)))
+
+
+def psd(bins=5, mass=True, mask=-1):
+    """Cumulative particle size distribution of the spheres over ``bins`` equal diameter bins.
+
+    Returns ``(binsSizes, binsProc, binsSumCum)``, arrays (bins+1,): the bin edges
+    [m] from the smallest to the largest diameter, the cumulative fraction [-] and the
+    cumulative mass [kg] (or count, ``mass=False``). A sphere of diameter d counts in
+    edge k >= (d - dmin)/h + 1 (the first edge holds nothing). With no spheres or a
+    single diameter, prints so and returns False, as YADE.
+    """
+    ids, r = _spheres(mask)
+    d = 2.0 * r
+    if ids.size == 0 or d.min() == d.max():
+        print("Monodisperse packing with diameter =", float(d.max()) if ids.size else 0.0, ". Not computing psd")
+        return False
+    dmin, dmax = d.min(), d.max()
+    h = (dmax - dmin) / bins
+    which = np.minimum(np.floor((d - dmin) / h).astype(np.int64) + 1, bins)
+    weight = O._scene.bodies.mass[ids] if mass else np.ones(ids.size)
+    cum = np.cumsum(np.bincount(which, weights=weight, minlength=bins + 1))
+    return dmin + h * np.arange(bins + 1), cum / cum[-1], cum
+
+
+def sumTorques(ids, axis, axisPt) -> float:
+    """Sum over bodies ``ids`` of ((x - axisPt) x f + t) . axis [N m]; ``axis`` is not normalised."""
+    ids = np.asarray(list(ids), dtype=np.int64)
+    b = O._scene.bodies
+    m = np.cross(b.pos[ids] - as_vec3(axisPt), b.force[ids]) + b.torque[ids]
+    return float((m @ as_vec3(axis)).sum())
+
+
+def _contact_ends():
+    C, rows = _live_contacts()
+    return C.con_i[rows, I_ID1], C.con_i[rows, I_ID2]
+
+
+def numIntrsOfEachBody() -> list:
+    """Number of real interactions of each body id, a list (N,)."""
+    id1, id2 = _contact_ends()
+    return np.bincount(np.concatenate([id1, id2]), minlength=O._scene.bodies.count).tolist()
+
+
+def getBodyIdsContacts(bodyID=0) -> list:
+    """Sorted ids of the bodies sharing an interaction (real or potential) with ``bodyID``."""
+    s = O._scene
+    id1, id2 = _contact_ends()
+    C = s.contacts
+    pairs = C.pair_ids[:int(C.ctr[C_PAIRS])]
+    a = np.concatenate([id1, id2, pairs[:, 0], pairs[:, 1]])
+    b = np.concatenate([id2, id1, pairs[:, 1], pairs[:, 0]])
+    other = np.unique(b[a == bodyID])
+    return other[s.bodies.alive[other]].tolist()
+
+
+def negPosExtremeIds(axis, distFactor) -> tuple[list, list]:
+    """Ids of the spheres at the two ends along ``axis``: those whose x -/+ distFactor r reaches
+    the spheres' bounding box (lower end, upper end)."""
+    ids, r = _spheres()
+    x = O._scene.bodies.pos[ids, axis]
+    lo, hi = (x - r).min(), (x + r).max()
+    return ids[x - distFactor * r <= lo].tolist(), ids[x + distFactor * r >= hi].tolist()
+
+
+def getSpheresVolume2D(mask=-1) -> float:
+    """Total area of the spheres taken as discs, sum pi r^2 [m^2]."""
+    _, r = _spheres(mask)
+    return float(math.pi * (r ** 2).sum())
