@@ -45,15 +45,18 @@ from granum.engines.runner import SimulationError
 from granum.idem import IDEMSolver
 from granum.mathtypes import Matrix3, Quaternion, Vector2, Vector2i, Vector3, Vector3i, Vector6
 from granum.yade import (  # noqa: F401 - the yade.X modules
+    bodiesHandling,
     config,
     export,
     geom,
     libVersions,
+    linterpolation,
     log,
     math,
     minieigenHP,
     pack,
     plot,
+    post2d,
     qt,
     timing,
     utils,
