@@ -126,8 +126,10 @@ class Scene(BodyStore):
     @dt.setter
     def dt(self, value: float) -> None:
         value = float(value)
-        if not value > 0.0 or not np.isfinite(value):
-            raise ValueError(f"O.dt must be a positive finite time step in seconds, got {value!r}")
+        # 0 is allowed, as in YADE (its periodic-cell tests step with dt = 0: nothing moves, the cell's
+        # velocity gradient still sets the velocities)
+        if not value >= 0.0 or not np.isfinite(value):
+            raise ValueError(f"O.dt must be a finite time step in seconds, not negative, got {value!r}")
         self.scal[S_DT] = value
 
     @property
@@ -176,7 +178,8 @@ class Scene(BodyStore):
         C = self.contacts
         n = int(C.ctr[C_CONTACTS])
         live = C.con_i[:n][(C.con_i[:n, I_FLAGS] & FLAG_ALIVE) != 0]
-        self._contact_functors = {role: tuple(int(c) for c in np.unique(live[:, col]))
+        # a law code -1 (a contact createInteraction made without a law) names no functor
+        self._contact_functors = {role: tuple(int(c) for c in np.unique(live[:, col]) if c >= 0)
                                   for role, col in (("geom", I_GEOM), ("phys", I_PHYS), ("law", I_LAW))}
 
     def contact_functors(self, role: str) -> tuple:

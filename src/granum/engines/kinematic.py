@@ -18,6 +18,14 @@ def _unit(owner, name: str, v) -> np.ndarray:
     return a / n
 
 
+def to_axis(owner, value) -> Vector3:
+    """An axis attribute, normalised on assignment as YADE does (a zero vector is refused when the scene
+    runs, by :func:`_unit`)."""
+    v = to_vec3(owner, value)
+    n = v.norm()
+    return v / n if n > 0 else v
+
+
 class ForceEngine(PartialEngine):
     """Add a constant force to the listed bodies every step."""
 
@@ -34,7 +42,7 @@ class TranslationEngine(PartialEngine):
     stage = "granum.kernels.forces:translation_stage"
     _attrs = {
         "velocity": Attr(0.0, "Speed along the axis [m/s]", to_float("velocity")),
-        "translationAxis": Attr(Vector3(1, 0, 0), "Direction of motion", to_vec3),
+        "translationAxis": Attr(Vector3(1, 0, 0), "Direction of motion (normalised when assigned)", to_axis),
     }
 
     def params(self, scene, engines) -> tuple:
@@ -50,7 +58,7 @@ class RotationEngine(PartialEngine):
     stage = "granum.kernels.forces:rotation_stage"
     _attrs = {
         "angularVelocity": Attr(0.0, "Angular speed [rad/s]", to_float("angularVelocity")),
-        "rotationAxis": Attr(Vector3(1, 0, 0), "Axis of rotation", to_vec3),
+        "rotationAxis": Attr(Vector3(1, 0, 0), "Axis of rotation (normalised when assigned)", to_axis),
         "rotateAroundZero": Attr(False, "Also move the bodies around zeroPoint", to_bool),
         "zeroPoint": Attr(Vector3(0, 0, 0), "A point of the rotation axis [m]", to_vec3),
     }

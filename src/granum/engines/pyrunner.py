@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import traceback
+
 from granum.core.attrs import Attr, to_bool, to_str
 from granum.engines.base import PeriodicEngine
 
@@ -28,9 +30,18 @@ class PyRunner(PeriodicEngine):
             return
         try:
             exec(self.command, omega.namespace())
-        except Exception:
+        except Exception as e:
             if not self.ignoreErrors:
-                raise
-            import traceback
-
+                raise PyRunnerError(yade_report(self.command, e)) from e
             traceback.print_exc()
+
+
+class PyRunnerError(RuntimeError):
+    """An exception raised by a PyRunner's command, reported as YADE reports it (a RuntimeError naming the
+    command, the error and its stack trace); the original exception is its ``__cause__``."""
+
+
+def yade_report(command: str, exc: BaseException) -> str:
+    """YADE's message for an exception raised by ``command``: the trace starts at the command's own frame."""
+    trace = traceback.format_exception(type(exc), exc, exc.__traceback__.tb_next)
+    return f"PyRunner error.\n\nCOMMAND: {command!r}\n\nERROR:\n{exc}\n\nSTACK TRACE:\n" + "\n".join(trace)

@@ -70,7 +70,7 @@ from granum.kernels.copy import copy_row, copy_rows
 from granum.kernels.dispatch import geom_call, law_call, phys_call
 from granum.kernels.prefetch import prefetch_row
 from granum.kernels.schedule import block_queue, next_block, queue_workers
-from granum.physics.scgeom import contact_shift
+from granum.physics.scgeom import contact_shift, scgeom_incident_vel
 from granum.physics.vec import add, cross, load3, matvec, scale, sub
 
 #: how many bodies ahead the force gather prefetches contact rows (4-16 measured alike at 1e5 spheres)
@@ -289,10 +289,13 @@ def fail(C, status, a, b):
 
 
 @jit
-def new_contact(S, C, a, b, p, geom_code, geom_swap, geom_type, phys_code, phys_swap, phys_type, law_code):
+def new_contact(S, C, a, b, p, geom_code, geom_swap, geom_type, phys_code, phys_swap, phys_type, law_code,
+                need_law=True):
     """Append a contact between bodies a and b (pair p or -1) with its functors resolved.
 
-    Returns the new row, or -1 with an error status when a functor is missing.
+    Returns the new row, or -1 with an error status when a functor is missing. Without ``need_law``
+    (``utils.createInteraction``, which needs only geometry and physics, as in YADE) a missing law leaves
+    the contact's law code -1: the first step that updates it stops with the "no Law2" status.
     """
     ka = S.shape_kind[a]
     kb = S.shape_kind[b]
@@ -308,7 +311,7 @@ def new_contact(S, C, a, b, p, geom_code, geom_swap, geom_type, phys_code, phys_
         fail(C, STATUS_NO_PHYS, id1, id2)
         return -1
     law = law_code[geom_type[g], phys_type[ph]]
-    if law < 0:
+    if law < 0 and need_law:
         fail(C, STATUS_NO_LAW, id1, id2)
         return -1
     c = C.ctr[C_CONTACTS]
@@ -379,7 +382,8 @@ def create_contact_now(S, C, a, b, P):
             p = q
     if p >= 0 and C.pair_con[p] >= 0:
         return
-    c = new_contact(S, C, lo, hi, p, geom_code, geom_swap, geom_type, phys_code, phys_swap, phys_type, law_code)
+    c = new_contact(S, C, lo, hi, p, geom_code, geom_swap, geom_type, phys_code, phys_swap, phys_type, law_code,
+                    False)
     if c < 0:
         return
     id1, id2 = contact_geometry(c, S, C, geom_tab)
@@ -417,8 +421,12 @@ def update_contact(c, S, C, geom_tab, phys_tab, law_tab, died):
     id1, id2 = contact_geometry(c, S, C, geom_tab)
     if C.con_i[c, I_FLAGS] & FLAG_NEW:
         contact_physics(c, id1, id2, S, C, phys_tab)
+    law = C.con_i[c, I_LAW]
+    if law < 0:   # made real by createInteraction while the InteractionLoop had no law for it
+        fail(C, STATUS_NO_LAW, id1, id2)
+        return
     # functors may set flags of their own (geometry, law): change only the bits owned here
-    if not law_call(C.con_i[c, I_LAW], c, id1, id2, S, C, law_tab):
+    if not law_call(law, c, id1, id2, S, C, law_tab):
         C.con_i[c, I_FLAGS] &= ~FLAG_ALIVE
         died[c // BLOCK] = 1
 
@@ -578,6 +586,14 @@ def _gather(S, C, nb, ahead):
 
 
 gather, gather_par = kernel(_gather)
+
+
+@jit
+def incident_velocity(S, C, c, ratchet):
+    """Velocity of body 2 relative to body 1 at the point of contact ``c`` [m/s] (ScGeom.incidentVel), with
+    the periodic image's shift; ``ratchet``: YADE's avoidGranularRatcheting."""
+    shift, shift_vel = contact_shift(c, S, C)
+    return scgeom_incident_vel(c, C.con_i[c, I_ID1], C.con_i[c, I_ID2], S, C, shift, shift_vel, ratchet)
 
 
 @jit

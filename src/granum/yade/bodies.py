@@ -221,6 +221,11 @@ class Body:
         return int(self._col("shape_kind")[self._row]) == ShapeKind.CLUMP
 
     @property
+    def bounded(self) -> bool:
+        """Whether the body has a bound the collider sees: every body but a clump (whose members have theirs)."""
+        return not self.isClump
+
+    @property
     def isClumpMember(self) -> bool:
         return self.clumpId >= 0 and not self.isClump
 

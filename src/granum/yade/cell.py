@@ -21,6 +21,10 @@ def _matrix(a) -> Matrix3:
     return Matrix3(*np.asarray(a, dtype=float).ravel())
 
 
+class DegenerateCellError(ValueError, RuntimeError):
+    """A cell without a positive finite volume (a ValueError; also the RuntimeError YADE raises)."""
+
+
 class Cell:
     """YADE's periodic cell."""
 
@@ -56,7 +60,7 @@ class Cell:
     def hSize(self, value) -> None:
         h = as_mat3(value)
         if not np.all(np.isfinite(h)) or not det3(h) > 0:
-            raise ValueError(f"Cell.hSize must be finite with a positive volume, got det = {det3(h)!r}")
+            raise DegenerateCellError(f"Cell.hSize must be finite with a positive volume, got det = {det3(h)!r}")
         s = self._scene
         s.cell_hsize[:] = h
         s.cell_ref_hsize[:] = h

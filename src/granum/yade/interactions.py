@@ -106,6 +106,26 @@ def _make_views(table: dict) -> dict:
 
 
 GEOM_VIEWS = _make_views(registry.GEOM_TYPES)
+
+
+def _incident_vel(self, i=None, avoidGranularRatcheting: bool = True) -> Vector3:
+    """Velocity of body 2 relative to body 1 at the contact point [m/s] (YADE's ``ScGeom.incidentVel``).
+
+    With ``avoidGranularRatcheting`` the lever arms are the reference radii and the centres' relative
+    velocity is scaled by (r1 + r2) / (r1 + r2 - penetrationDepth); otherwise the arms run from the centres
+    to the contact point. ``i``, the interaction, is accepted as in YADE (it is this geometry's own)."""
+    from granum._jit import call
+    from granum.core.contacts import CONTACTS
+    from granum.kernels.interaction import incident_velocity
+
+    intr = self._intr
+    row = intr._row_or_raise()
+    s = intr._scene
+    return Vector3(*call(incident_velocity, s.arrays(), CONTACTS.to_record(s.contacts), row,
+                         bool(avoidGranularRatcheting)))
+
+
+GEOM_VIEWS["ScGeom"].incidentVel = _incident_vel
 PHYS_VIEWS = _make_views(registry.PHYS_TYPES)
 
 

@@ -217,13 +217,18 @@ class Omega:
         if not 0 <= int(i) < len(self._scenes):
             raise IndexError(f"O.switchToScene: scene {i} has not been created yet (O.addScene() creates one; "
                              f"there are {len(self._scenes)})")
-        self._stop_and_wait()
+        self._refuse_while_running()
         self._this_scene = int(i)
         self._new_scene(*self._scenes[self._this_scene])
 
+    def _refuse_while_running(self) -> None:
+        if self._running:
+            raise RuntimeError("Please stop the simulation first, e.g. O.pause().")
+
     def switchScene(self) -> None:
-        """Swap the current scene with the alternative one (empty at first); again swaps back."""
-        self._stop_and_wait()
+        """Swap the current scene with the alternative one (empty at first); again swaps back. Refused while
+        the simulation runs, as in YADE."""
+        self._refuse_while_running()
         other = self._other_scene or (Scene(), MaterialContainer())
         self._other_scene = (self._scene, self.materials)
         self._new_scene(*other)

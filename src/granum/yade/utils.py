@@ -411,7 +411,9 @@ def setContactFriction(angleRad):
 def createInteraction(id1, id2):
     """Make the interaction of two bodies real now, whatever their distance (YADE semantics).
 
-    The geometry and physics come from the functors of the InteractionLoop in O.engines.
+    The geometry and physics come from the functors of the InteractionLoop in O.engines; the loop needs no
+    law functor for them, as in YADE (a step that reaches such a contact without one stops, naming it). An
+    interaction that is real already is refused (RuntimeError, as in YADE).
     """
     from granum.engines.pipeline import InteractionLoop
     from granum.kernels.interaction import create_contact_now
@@ -424,6 +426,8 @@ def createInteraction(id1, id2):
     for i in (id1, id2):
         if not (0 <= i < s.body_count and s.bodies.alive[i]):
             raise IndexError(f"createInteraction: no body with id {i}")
+    if Interaction(s, id1, id2).isReal:
+        raise RuntimeError(f"createInteraction: the interaction ({id1}, {id2}) is real already")
     S = s.arrays()
     C = CONTACTS.to_record(s.contacts)
     call(create_contact_now, S, C, int(id1), int(id2), loops[0].params(s, O.engines))

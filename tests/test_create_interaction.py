@@ -1,0 +1,47 @@
+"""utils.createInteraction needs only geometry and physics functors, as in YADE; ScGeom.incidentVel against its
+closed form (relative velocity at the contact point, with YADE's anti-ratcheting scaling)."""
+
+from __future__ import annotations
+
+import pytest
+
+
+def _two_spheres(y, gap: float):
+    """Two unit-radius spheres on the x axis, ``gap`` apart (negative: overlapping), the second moving."""
+    y.O.bodies.append([y.sphere((0, 0, 0), 1), y.sphere((2 + gap, 0, 0), 1)])
+    y.O.bodies[1].state.vel = (-0.5, 0.25, 0)
+    y.O.bodies[1].state.angVel = (0, 0, 2.0)
+    y.O.dt = 1e-6
+
+
+def test_create_interaction_without_a_law_then_a_step_names_the_missing_law(yade):
+    y = yade
+    _two_spheres(y, 0.3)
+    y.O.engines = [y.ForceResetter(), y.InsertionSortCollider([y.Bo1_Sphere_Aabb()]),
+                   y.InteractionLoop([y.Ig2_Sphere_Sphere_ScGeom()], [y.Ip2_FrictMat_FrictMat_FrictPhys()], []),
+                   y.NewtonIntegrator()]
+    i = y.utils.createInteraction(0, 1)
+    assert i.isReal and i.geom.penetrationDepth == pytest.approx(-0.3) and i.phys.kn > 0
+    with pytest.raises(RuntimeError, match="real already"):
+        y.utils.createInteraction(0, 1)
+    with pytest.raises(y.SimulationError, match="no Law2"):
+        y.O.step()
+
+
+@pytest.mark.parametrize("ratchet", [True, False])
+def test_incident_velocity_is_the_relative_velocity_at_the_contact_point(yade, ratchet):
+    y = yade
+    _two_spheres(y, -0.1)   # penetration 0.1
+    y.O.engines = [y.InteractionLoop([y.Ig2_Sphere_Sphere_ScGeom()], [y.Ip2_FrictMat_FrictMat_FrictPhys()], [])]
+    i = y.utils.createInteraction(0, 1)
+    g = i.geom
+    v2, w2 = y.Vector3(-0.5, 0.25, 0), y.Vector3(0, 0, 2.0)
+    n = g.normal                      # +x, from body 1 to body 2
+    if ratchet:
+        # (v2 - v1) (r1 + r2)/(r1 + r2 - delta) + w2 x (-r2 n) - w1 x (r1 n), with r = refR
+        expected = v2 * (2.0 / (2.0 - 0.1)) + w2.cross(-1.0 * n)
+    else:
+        arm2 = g.contactPoint - y.O.bodies[1].state.pos
+        expected = v2 + w2.cross(arm2)
+    got = g.incidentVel(i, avoidGranularRatcheting=ratchet)
+    assert list(got) == pytest.approx(list(expected), rel=1e-14, abs=1e-15)
