@@ -45,3 +45,18 @@ def test_incident_velocity_is_the_relative_velocity_at_the_contact_point(yade, r
         expected = v2 + w2.cross(arm2)
     got = g.incidentVel(i, avoidGranularRatcheting=ratchet)
     assert list(got) == pytest.approx(list(expected), rel=1e-14, abs=1e-15)
+
+
+def test_create_interaction_in_a_periodic_cell_takes_the_nearest_image(yade):
+    """Bodies ten cells apart along z: the contact is with body 2's image nearest to body 1 (cellDist), and
+    its incident velocity is the relative velocity of that image (as YADE's pbc test checks)."""
+    y = yade
+    y.O.periodic = True
+    y.O.cell.setBox(2.5, 2.5, 3)
+    y.O.bodies.append([y.sphere((1, 1, 1), .5), y.sphere((1, 1.9, 1 + 10 * 3), .5)])
+    y.O.bodies[1].state.vel = (0, 0, 5)
+    y.O.engines = [y.InteractionLoop([y.Ig2_Sphere_Sphere_ScGeom()], [y.Ip2_FrictMat_FrictMat_FrictPhys()], [])]
+    i = y.utils.createInteraction(0, 1)
+    assert list(i.cellDist) == [0, 0, -10]
+    assert i.geom.penetrationDepth == pytest.approx(1 - 0.9, rel=1e-12)
+    assert list(i.geom.incidentVel(i, avoidGranularRatcheting=False)) == pytest.approx([0, 0, 5], abs=1e-12)

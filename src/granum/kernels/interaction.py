@@ -71,7 +71,7 @@ from granum.kernels.dispatch import geom_call, law_call, phys_call
 from granum.kernels.prefetch import prefetch_row
 from granum.kernels.schedule import block_queue, next_block, queue_workers
 from granum.physics.scgeom import contact_shift, scgeom_incident_vel
-from granum.physics.vec import add, cross, load3, matvec, scale, sub
+from granum.physics.vec import add, cross, inv3, load3, matvec, scale, sub
 
 #: how many bodies ahead the force gather prefetches contact rows (4-16 measured alike at 1e5 spheres)
 GATHER_AHEAD = 4
@@ -326,9 +326,15 @@ def new_contact(S, C, a, b, p, geom_code, geom_swap, geom_type, phys_code, phys_
     C.con_i[c, I_PHYS] = ph
     C.con_i[c, I_LAW] = law
     if C.con_i.shape[1] > I_CELL:  # periodic scene
-        sign = -1 if id1 == b else 1
-        for k in range(3):
-            C.con_i[c, I_CELL + k] = sign * C.pair_cell[p, k] if p >= 0 and C.pair_cell.shape[0] > 0 else 0
+        if p >= 0 and C.pair_cell.shape[0] > 0:
+            sign = -1 if id1 == b else 1
+            for k in range(3):
+                C.con_i[c, I_CELL + k] = sign * C.pair_cell[p, k]
+        else:   # no pair (createInteraction): body 2's image nearest to body 1, k = round(H^-1 (x1 - x2))
+            hinv = inv3(S.cell_hsize)
+            d = sub(load3(S.pos, id1), load3(S.pos, id2))
+            for k in range(3):
+                C.con_i[c, I_CELL + k] = round(hinv[k, 0] * d[0] + hinv[k, 1] * d[1] + hinv[k, 2] * d[2])
     C.con_i[c, I_BORN] = S.iscal[I_ITER]
     if p >= 0:
         C.pair_con[p] = c
