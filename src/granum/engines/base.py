@@ -48,8 +48,14 @@ class Engine(Attributed):
         """Body of a Python engine."""
 
     def functors(self) -> list:
-        """Functor objects owned by this engine (their labels become global names too)."""
+        """Objects owned by this engine whose labels become global names too: its functors, or the engines
+        a CombinedKinematicEngine combines."""
         return []
+
+    def in_place(self) -> list:
+        """The engines a step runs in this engine's place, in order: itself unless dead (a ParallelEngine:
+        its live slaves)."""
+        return [] if self.dead else [self]
 
 
 class GlobalEngine(Engine):

@@ -55,11 +55,12 @@ class SimulationError(RuntimeError):
 
 
 class Plan:
-    """The engine list split into compiled segments and Python engines."""
+    """The engine list split into compiled segments and Python engines (a ParallelEngine's slaves in its
+    place)."""
 
     def __init__(self, engines: list):
         self.engines = list(engines)
-        self.live = [e for e in self.engines if not e.dead]
+        self.live = live_engines(self.engines)
         self.items: list = []       # ("segment", k) or ("python", engine), in step order
         segments: list[list] = []
         for e in self.live:
@@ -115,8 +116,14 @@ def _type_key(value):
     return numba.typeof(value)
 
 
+def live_engines(engines) -> list:
+    """The engines a step runs, in order: the live ones, a ParallelEngine replaced by its live slaves."""
+    return [s for e in engines for s in e.in_place()]
+
+
 def plan_key(engines) -> tuple:
-    return tuple((id(e), e.dead) for e in engines)
+    """Changes when the engine list, or the engines a step runs (dead flags, a ParallelEngine's slaves), change."""
+    return tuple(map(id, engines)), tuple(map(id, live_engines(engines)))
 
 
 class Runner:

@@ -1,5 +1,5 @@
-"""Stages that set forces or impose motion: ForceResetter, GravityEngine, ForceEngine,
-TranslationEngine and RotationEngine.
+"""Stages that set forces or impose motion: ForceResetter, GravityEngine, ForceEngine and the kinematic
+engines (TranslationEngine, RotationEngine, HelixEngine, their combinations).
 
 Each writes only the rows of its own bodies, in parallel over blocks of bodies.
 """
@@ -10,7 +10,7 @@ from granum._jit import BLOCK, PARALLEL_THRESHOLD, jit, kernel, prange
 from granum.core.arrays import E_GRAV_WORK, I_NBODIES, I_TRACK_ENERGY, S_DT
 from granum.core.records import raw
 from granum.kernels.schedule import block_queue, next_block, queue_workers
-from granum.physics.vec import cross, load3, sub
+from granum.physics.vec import load3, quat_from_rotvec, quat_rotate, scale, sub
 
 
 @jit
@@ -77,30 +77,42 @@ def force_stage(S, C, P):
             S.force[i, k] += force[k]
 
 
-@jit
-def translation_stage(S, C, P):
-    """TranslationEngine: v = velocity * axis on the listed bodies; P = (ids, velocity (3,))."""
-    ids, velocity = P
-    for i in ids:
-        for k in range(3):
-            S.vel[i, k] = velocity[k]
+#: columns of a part row of :func:`kinematic_stage`: velocity (3) [m/s], unit axis (3), angular speed [rad/s],
+#: point of the axis (3) [m], 1.0 if the bodies orbit the axis
+K_VEL, K_AXIS, K_SPEED, K_ZERO, K_ORBIT, K_COLS = 0, 3, 6, 7, 10, 11
 
 
 @jit
-def rotation_stage(S, C, P):
-    """RotationEngine: spin about an axis, optionally about a point.
+def kinematic_stage(S, C, P):
+    """Kinematic engines (YADE's KinematicEngine: TranslationEngine, RotationEngine, HelixEngine and their
+    combinations): the velocity and angular velocity of the listed bodies are reset, then each part adds its
+    own motion, in order.
 
-    P = (ids, angular velocity vector (3,), rotate_around_zero, zero point (3,)):
-    omega = angularVelocity * axis; with ``rotateAroundZero`` also
-    v = omega x (x - zeroPoint), so the bodies orbit the axis through zeroPoint.
+    P = (ids, parts (K, K_COLS), turned (K,)). Part k adds to every listed body
+    vel += velocity_k, angVel += speed_k axis_k and, if it orbits, the chord of the circle about the axis
+    through zero_k, vel += (R(speed_k dt, axis_k)(x - zero_k) + zero_k - x) / dt, which puts the body on
+    the circle after the step; turned[k] += speed_k dt [rad] (HelixEngine.angleTurned).
     """
-    ids, omega, around, zero = P
-    w = (omega[0], omega[1], omega[2])
-    z = (zero[0], zero[1], zero[2])
+    ids, parts, turned = P
+    dt = S.scal[S_DT]
+    vel, ang_vel, pos = S.vel, S.ang_vel, S.pos  # read once: a store could make the loop reload them
     for i in ids:
-        for k in range(3):
-            S.ang_vel[i, k] = w[k]
-        if around:
-            v = cross(w, sub(load3(S.pos, i), z))
-            for k in range(3):
-                S.vel[i, k] = v[k]
+        for j in range(3):
+            vel[i, j] = 0.0
+            ang_vel[i, j] = 0.0
+    for k in range(parts.shape[0]):
+        speed = parts[k, K_SPEED]
+        axis = (parts[k, K_AXIS], parts[k, K_AXIS + 1], parts[k, K_AXIS + 2])
+        zero = (parts[k, K_ZERO], parts[k, K_ZERO + 1], parts[k, K_ZERO + 2])
+        q = quat_from_rotvec(scale(axis, speed * dt))
+        orbit = parts[k, K_ORBIT] != 0.0
+        for i in ids:
+            for j in range(3):
+                vel[i, j] += parts[k, K_VEL + j]
+                ang_vel[i, j] += speed * axis[j]
+            if orbit:
+                r = sub(load3(pos, i), zero)
+                chord = sub(quat_rotate(q, r), r)
+                for j in range(3):
+                    vel[i, j] += chord[j] / dt
+        turned[k] += speed * dt

@@ -27,7 +27,15 @@ from granum.engines.base import Engine, GlobalEngine, PartialEngine, PeriodicEng
 from granum.engines.controllers import PeriTriaxController
 from granum.engines.functors import CLASSES as _FUNCTORS
 from granum.engines.functors import BoundFunctor, Functor, IGeomFunctor, IPhysFunctor, LawFunctor
-from granum.engines.kinematic import ForceEngine, RotationEngine, TranslationEngine
+from granum.engines.kinematic import (
+    CombinedKinematicEngine,
+    ForceEngine,
+    HelixEngine,
+    KinematicEngine,
+    RotationEngine,
+    TranslationEngine,
+)
+from granum.engines.parallel import ParallelEngine
 from granum.engines.pipeline import (
     BoundDispatcher,
     Dispatcher,
@@ -107,6 +115,8 @@ _namespace.update(
     BoundDispatcher=BoundDispatcher, IGeomDispatcher=IGeomDispatcher, IPhysDispatcher=IPhysDispatcher,
     LawDispatcher=LawDispatcher,
     ForceEngine=ForceEngine, TranslationEngine=TranslationEngine, RotationEngine=RotationEngine,
+    KinematicEngine=KinematicEngine, HelixEngine=HelixEngine, CombinedKinematicEngine=CombinedKinematicEngine,
+    ParallelEngine=ParallelEngine,
     SimulationError=SimulationError, Body=Body, State=State, Shape=Shape, Sphere=Sphere, Facet=Facet, Wall=Wall,
     Box=Box, Clump=Clump, Aabb=Aabb, Cell=Cell, Interaction=Interaction, Vector2=Vector2, Vector2i=Vector2i,
     Vector3=Vector3,
