@@ -58,18 +58,23 @@ class Plan:
     """The engine list split into compiled segments and Python engines (a ParallelEngine's slaves in its
     place)."""
 
-    def __init__(self, engines: list):
+    def __init__(self, engines: list, one_stage_per_segment: bool = False):
+        """``one_stage_per_segment``: each compiled engine a segment of its own (YADE's sub-stepping runs one
+        engine at a time)."""
         self.engines = list(engines)
         self.live = live_engines(self.engines)
         self.items: list = []       # ("segment", k) or ("python", engine), in step order
+        self.first_engine: list[int] = []   # per item, the index in ``live`` of its first engine (O.subStep)
         segments: list[list] = []
-        for e in self.live:
+        for k, e in enumerate(self.live):
             if e.stage is None:
                 self.items.append(("python", e))
+                self.first_engine.append(k)
             else:
-                if not self.items or self.items[-1][0] != "segment":
+                if one_stage_per_segment or not self.items or self.items[-1][0] != "segment":
                     segments.append([])
                     self.items.append(("segment", len(segments) - 1))
+                    self.first_engine.append(k)
                 segments[-1].append(e)
         self.compiled = [e for seg in segments for e in seg]
         self.python = [e for e in self.live if e.stage is None]
@@ -134,6 +139,12 @@ class Runner:
         self.scene = scene
         self.omega = omega
         self._plan: Plan | None = None
+        #: YADE's ``O.subStep``: -1 between steps; while a step runs item by item, the index (in the engines
+        #: it runs) of the engine running or, when sub-stepping, of the next one; ``len(items)``: the step's
+        #: end is next
+        self.sub_step = -1
+        #: the plan of a step run sub-step by sub-step (O.subStepping), kept until that step ends
+        self.sub_plan: Plan | None = None
         # running estimate of the wall time of one step; pessimistic until measured, so that the first
         # chunk is one step and O.pause(), Ctrl-C and realPeriod are honoured from the start
         self._step_seconds = CHUNK_SECONDS
@@ -229,28 +240,62 @@ class Runner:
 
     def slow_step(self, plan: Plan) -> None:
         """One step, segment by segment, with the Python engines that are due."""
+        call(step_begin, self.scene.arrays())
+        try:
+            for k in range(len(plan.items)):
+                self.sub_step = plan.first_engine[k]
+                self.run_item(plan, k)
+        finally:
+            self.sub_step = -1
+        self.end_step(plan)
+
+    def run_item(self, plan: Plan, k: int) -> None:
+        """Item ``k`` of a step: a compiled segment, or a Python engine if it is due."""
         scene = self.scene
-        timing, times = self.timing(plan)
-        call(step_begin, scene.arrays())
-        for kind, item in plan.items:
-            if kind == "segment":
-                S = scene.arrays()
-                C = CONTACTS.to_record(scene.contacts)
-                PP = self.params(plan)
-                plan.run_steps(0, item, S, C, PP, np.inf, _NONE, _NONE, timing, times)
-                scene.contacts = CONTACTS.from_record(C)
-                if scene.contacts.ctr[C_STATUS]:
-                    self.sync_counters(plan, times)
-                    self.raise_status()
-            elif not item.dead and item.due(scene):
-                t0 = time.perf_counter_ns()
-                item.run_python(self.omega)
-                if timing:
-                    item.execTime += time.perf_counter_ns() - t0
-                    item.execCount += 1
-        self.sync_counters(plan, times)
-        call(step_end, scene.arrays())
+        kind, item = plan.items[k]
+        if kind == "segment":
+            timing, times = self.timing(plan)
+            S = scene.arrays()
+            C = CONTACTS.to_record(scene.contacts)
+            PP = self.params(plan)
+            plan.run_steps(0, item, S, C, PP, np.inf, _NONE, _NONE, timing, times)
+            scene.contacts = CONTACTS.from_record(C)
+            self.sync_counters(plan, times)
+            if scene.contacts.ctr[C_STATUS]:
+                self.raise_status()
+        elif not item.dead and item.due(scene):
+            t0 = time.perf_counter_ns()
+            item.run_python(self.omega)
+            if self.omega.timingEnabled:
+                item.execTime += time.perf_counter_ns() - t0
+                item.execCount += 1
+
+    def end_step(self, plan: Plan) -> None:
+        """The end of a step run item by item: the clock and the cell advance, then the hooks stages asked for."""
+        call(step_end, self.scene.arrays())
         self.run_hooks(plan)
+
+    def substep(self) -> None:
+        """One sub-step of YADE's sub-stepping (``O.subStepping``): the step's beginning, then one engine at
+        a time, then its end. The engines of the step are fixed at its beginning (an engine list assigned
+        meanwhile takes over at the next step, as in whole steps)."""
+        if self.sub_step < 0:
+            self.sub_plan = Plan(self.scene.engines, one_stage_per_segment=True)
+            self.scene.note_contact_functors()
+            self.check_scene()
+            call(step_begin, self.scene.arrays())
+            self.sub_step = 0
+        elif self.sub_step < len(self.sub_plan.items):
+            self.run_item(self.sub_plan, self.sub_step)
+            self.sub_step += 1
+        else:
+            plan, self.sub_plan, self.sub_step = self.sub_plan, None, -1
+            self.end_step(plan)
+
+    def finish_step(self) -> None:
+        """Run what is left of a step begun sub-step by sub-step."""
+        while self.sub_step >= 0:
+            self.substep()
 
     def run_hooks(self, plan: Plan) -> None:
         """Run the Python hook a compiled engine asked for during the last step."""

@@ -184,6 +184,7 @@ class Omega:
         self._other_scene: tuple | None = None
         self._started = time.monotonic()
         self._speed = 0.0
+        self._sub_stepping = False
         self._new_scene(*self._scenes[0])
         self._frozen = True
 
@@ -333,19 +334,31 @@ class Omega:
 
     @property
     def subStep(self) -> int:
-        """-1: granum runs whole steps (YADE's sub-stepping, one engine per O.step, is not implemented)."""
-        return -1
+        """-1 between steps; inside a step, the index of the engine running; with :attr:`subStepping`, the
+        index of the engine the next ``O.step()`` runs (``len(O.engines)``: the step's end)."""
+        return self._runner.sub_step
 
     @property
     def subStepping(self) -> bool:
-        """False: see :attr:`subStep`."""
-        return False
+        """Whether ``O.step()`` runs one sub-step: the step's beginning, one engine, or the step's end. Turned
+        off in the middle of a step, the next ``O.step()`` finishes that step."""
+        return self._sub_stepping
 
     @subStepping.setter
     def subStepping(self, on: bool) -> None:
-        if on:
-            raise NotImplementedError("O.subStepping: granum runs whole steps; running one engine per O.step() "
-                                      "is not implemented")
+        self._sub_stepping = bool(on)
+
+    @property
+    def _currEngines(self) -> list:
+        """The engines of the step going on (YADE): those its beginning fixed, while it runs sub-step by sub-step."""
+        plan = self._runner.sub_plan
+        return list(plan.engines) if plan is not None else self.engines
+
+    @property
+    def _nextEngines(self) -> list:
+        """An engine list assigned during the step going on, which takes over at the next step (YADE); else []."""
+        plan = self._runner.sub_plan
+        return self.engines if plan is not None and plan.engines != self._scene.engines else []
 
     @property
     def trackEnergy(self) -> bool:
@@ -480,6 +493,7 @@ class Omega:
         """
         if self._running:
             return
+        self._runner.finish_step()   # a step begun sub-step by sub-step ends first (it is not counted)
         if nSteps > 0:
             self.stopAtIter = self.iter + int(nSteps)
         self._error = None
@@ -506,12 +520,18 @@ class Omega:
             raise e
 
     def step(self) -> None:
-        """Run exactly one step in the calling thread."""
+        """Run exactly one step in the calling thread (one sub-step with :attr:`subStepping`; the rest of a
+        step begun sub-step by sub-step once it is turned off)."""
         if self._running and self._thread is not threading.current_thread():
             raise RuntimeError("O.step(): the simulation is running; O.pause() and O.wait() first")
         self._running = True
         try:
-            self._runner.advance(1)
+            if self._sub_stepping:
+                self._runner.substep()
+            elif self._runner.sub_step >= 0:
+                self._runner.finish_step()
+            else:
+                self._runner.advance(1)
         finally:
             self._running = False
             self._scene.forget_record()
@@ -525,6 +545,7 @@ class Omega:
         self._this_scene = 0
         self._other_scene = None
         self.filename = None
+        self._speed = 0.0
         self._new_scene(*self._scenes[0])
 
     def _stop_and_wait(self) -> None:
