@@ -59,7 +59,9 @@ _BASES = {"bound": BoundFunctor, "geom": IGeomFunctor, "phys": IPhysFunctor, "la
 def _convert_like(default):
     if isinstance(default, bool):
         return lambda o, v: bool(v)
-    if isinstance(default, int | float):
+    if isinstance(default, int):
+        return lambda o, v: int(v)
+    if isinstance(default, float):
         return lambda o, v: float(v)
     return None
 

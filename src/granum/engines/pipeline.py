@@ -224,7 +224,7 @@ class InteractionLoop(GlobalEngine):
     def contact_groups(self, scene) -> set[str]:
         """The ``con_f`` column groups this loop's contacts need: the history its functors declare, and
         the energy columns while O.trackEnergy."""
-        groups = {g for d in (self.physDispatcher, self.lawDispatcher) for f in d.functors for g in f.spec.history}
+        groups = {g for f in self.functors() for g in f.spec.history}
         return (groups | {"energy"}) if scene.track_energy else groups
 
 

@@ -9,6 +9,7 @@ from granum.physics import (  # noqa: F401  (imported for their registrations)
     box,
     facet,
     frict,
+    l3geom,
     materials,
     sphere,
     viscel,

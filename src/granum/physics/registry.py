@@ -43,8 +43,8 @@ class TypeInfo:
     """A named type in a YADE class hierarchy (IGeom or IPhys).
 
     ``fields`` maps the YADE attribute names the type adds to its parent to
-    ``(first float column of the contact pool, width)``; the YADE views of
-    interactions (``i.geom``, ``i.phys``) are generated from them.
+    ``(first float column of the contact pool, width)``, width 1 (a float), 3 (a Vector3) or 9 (a Matrix3,
+    row by row); the YADE views of interactions (``i.geom``, ``i.phys``) are generated from them.
     """
 
     name: str

@@ -163,3 +163,67 @@ def inv3(m):
             # cofactor C[j, i] (cyclic indices carry the sign); out = C^T / det
             out[i, j] = (m[j1, i1] * m[j2, i2] - m[j1, i2] * m[j2, i1]) * r
     return out
+
+
+@jit
+def quat_from_rows(r0, r1, r2):
+    """Quaternion (w, x, y, z) of the rotation matrix with rows ``r0``, ``r1``, ``r2`` (Shepperd's method).
+
+    From the largest of the trace and the diagonal entries, as Eigen's ``Quaternion(Matrix3)``; not
+    normalised, so a matrix that drifted from orthonormal gives a quaternion of norm near 1.
+    """
+    m = (r0, r1, r2)
+    trace = r0[0] + r1[1] + r2[2]
+    if trace > 0.0:
+        t = math.sqrt(trace + 1.0)
+        s = 0.5 / t
+        return (0.5 * t, (r2[1] - r1[2]) * s, (r0[2] - r2[0]) * s, (r1[0] - r0[1]) * s)
+    i = 0
+    if r1[1] > r0[0]:
+        i = 1
+    if r2[2] > m[i][i]:
+        i = 2
+    j = (i + 1) % 3
+    k = (j + 1) % 3
+    t = math.sqrt(m[i][i] - m[j][j] - m[k][k] + 1.0)
+    s = 0.5 / t
+    w = (m[k][j] - m[j][k]) * s
+    qi = 0.5 * t
+    qj = (m[j][i] + m[i][j]) * s
+    qk = (m[k][i] + m[i][k]) * s
+    if i == 0:
+        return (w, qi, qj, qk)
+    if i == 1:
+        return (w, qk, qi, qj)
+    return (w, qj, qk, qi)
+
+
+@jit
+def quat_to_rows(q):
+    """Rows of the rotation matrix of the quaternion ``q`` (w, x, y, z), taken as a unit one."""
+    w, x, y, z = q
+    return ((1.0 - 2.0 * (y * y + z * z), 2.0 * (x * y - w * z), 2.0 * (x * z + w * y)),
+            (2.0 * (x * y + w * z), 1.0 - 2.0 * (x * x + z * z), 2.0 * (y * z - w * x)),
+            (2.0 * (x * z - w * y), 2.0 * (y * z + w * x), 1.0 - 2.0 * (x * x + y * y)))
+
+
+@jit
+def quat_slerp(a, b, t):
+    """Spherical linear interpolation from ``a`` (t = 0) to ``b`` (t = 1) along the shorter arc.
+
+    a sin((1 - t) theta)/sin(theta) + b sin(t theta)/sin(theta), cos(theta) = |a . b|, with b's sign
+    flipped when a . b < 0; linear weights (1 - t, t) when theta is below 1e-15 (as Eigen).
+    """
+    d = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]
+    abs_d = abs(d)
+    if abs_d >= 1.0 - 1e-15:
+        wa = 1.0 - t
+        wb = t
+    else:
+        theta = math.acos(abs_d)
+        sin_theta = math.sin(theta)
+        wa = math.sin((1.0 - t) * theta) / sin_theta
+        wb = math.sin(t * theta) / sin_theta
+    if d < 0.0:
+        wb = -wb
+    return (wa * a[0] + wb * b[0], wa * a[1] + wb * b[1], wa * a[2] + wb * b[2], wa * a[3] + wb * b[3])

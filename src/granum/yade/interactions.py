@@ -26,7 +26,7 @@ from granum.core.contacts import (
     end_contact,
 )
 from granum.kernels.dispatch import functors
-from granum.mathtypes import Vector3, Vector3i
+from granum.mathtypes import Matrix3, Vector3, Vector3i
 from granum.physics import registry
 
 
@@ -74,6 +74,8 @@ class _ContactView:
         a = self._intr._scene.contacts.con_f
         if width == 1:
             return float(a[row, col])
+        if width == 9:
+            return Matrix3._wrap(a[row, col:col + 9].reshape(3, 3))
         return Vector3._wrap(a[row, col:col + 3])
 
     def __setattr__(self, name, value):
@@ -86,7 +88,7 @@ class _ContactView:
         if width == 1:
             a[row, col] = float(value)
         else:
-            a[row, col:col + 3] = np.asarray(value, dtype=float)
+            a[row, col:col + width] = np.asarray(value, dtype=float).reshape(width)
 
     def __dir__(self):
         return list(type(self)._fields)
