@@ -4,6 +4,7 @@ determinant and inverse the kernels use instead agree with NumPy's LU-based ones
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 
@@ -36,8 +37,12 @@ print('ITER', O.iter, len(O.interactions) > 0, O.cell.volume > 0)
 """
 
 
-def test_a_periodic_scene_runs_without_fcntl_and_without_scipy():
-    r = subprocess.run([sys.executable, "-c", _SCENE, "fcntl", "scipy"], capture_output=True, text=True, timeout=900)
+def test_a_periodic_scene_runs_without_fcntl_and_without_scipy(tmp_path):
+    # a cache of its own: without fcntl, filelock falls back to a lock *file*, which the lock files that
+    # fcntl locks leave behind in a shared cache would hold forever (Windows has msvcrt's locks instead)
+    env = {**os.environ, "GRANUM_CACHE_DIR": str(tmp_path / "cache")}
+    r = subprocess.run([sys.executable, "-c", _SCENE, "fcntl", "scipy"], capture_output=True, text=True, timeout=900,
+                       env=env)
     assert r.returncode == 0, r.stdout + r.stderr
     assert "MODULES []" in r.stdout
     assert "ITER 200 True True" in r.stdout
