@@ -84,9 +84,7 @@ def test_clock_labels_and_time_stepping_attributes(yade):
     assert [O.iter, O.time, O.realtime < 1.0] == REF["after_resetTime"]
     assert [O.dynDt, O.dynDtAvailable] == REF["dynDt"]
     _raises_like(REF["dynDt=True"], lambda: setattr(O, "dynDt", True))
-    assert [O.subStep, O.subStepping] == REF["subStep"]
-    with pytest.raises(NotImplementedError, match="subStepping"):
-        O.subStepping = True
+    assert [O.subStep, O.subStepping] == REF["subStep"]   # sub-stepping itself: test_substepping.py
     assert O.forceSyncCount == REF["forceSyncCount"] and len(O.miscParams) == REF["miscParams"]
     e = yade.ForceResetter(label="myResetter")
     O.engines = [e, yade.NewtonIntegrator()]

@@ -546,6 +546,7 @@ class Omega:
         self._other_scene = None
         self.filename = None
         self._speed = 0.0
+        self._sub_stepping = False   # a scene's setting in YADE: a new scene steps whole
         self._new_scene(*self._scenes[0])
 
     def _stop_and_wait(self) -> None:
