@@ -60,3 +60,13 @@ def test_create_interaction_in_a_periodic_cell_takes_the_nearest_image(yade):
     assert list(i.cellDist) == [0, 0, -10]
     assert i.geom.penetrationDepth == pytest.approx(1 - 0.9, rel=1e-12)
     assert list(i.geom.incidentVel(i, avoidGranularRatcheting=False)) == pytest.approx([0, 0, 5], abs=1e-12)
+
+
+def test_a_body_has_no_bound_until_the_collider_runs(yade):
+    """As in YADE (its core test testErasedAndNewlyCreatedSphere): bound is None on a new body."""
+    y = yade
+    i = y.O.bodies.append(y.sphere((0, 0, 0), 1))
+    assert y.O.bodies[i].bound is None
+    y.O.engines = [y.InsertionSortCollider([y.Bo1_Sphere_Aabb()]), y.NewtonIntegrator()]
+    y.O.step()
+    assert list(y.O.bodies[i].bound.min) == [-1.5, -1.5, -1.5]   # radius + verletDist (0.5 of the radius)

@@ -7,6 +7,7 @@ dead row, so ids never move). ``N`` below is the table's capacity; rows at and p
 
 from __future__ import annotations
 
+import math
 from enum import IntEnum
 
 from granum.core.table import Column, Table
@@ -76,8 +77,10 @@ BODY_COLUMNS = (
     Column("torque", (3,), "f8", 0.0, "Torque accumulated during the current step [N m], (N, 3)."),
     Column("perm_force", (3,), "f8", 0.0, "Permanent force, survives ForceResetter [N], (N, 3).", lazy=True),
     Column("perm_torque", (3,), "f8", 0.0, "Permanent torque, survives ForceResetter [N m], (N, 3).", lazy=True),
-    Column("bound_min", (3,), "f8", 0.0, "Lower corner of the axis-aligned bound incl. Verlet distance [m], (N, 3)."),
-    Column("bound_max", (3,), "f8", 0.0, "Upper corner of the axis-aligned bound incl. Verlet distance [m], (N, 3)."),
+    Column("bound_min", (3,), "f8", math.nan,
+           "Lower corner of the axis-aligned bound incl. Verlet distance [m], (N, 3); NaN until the collider runs."),
+    Column("bound_max", (3,), "f8", math.nan,
+           "Upper corner of the axis-aligned bound incl. Verlet distance [m], (N, 3); NaN until the collider runs."),
     Column("bound_pos", (3,), "f8", 0.0, "Position when the bound was last computed [m], (N, 3)."),
     Column("bound_ori", (4,), "f8", (1.0, 0.0, 0.0, 0.0), "Orientation when the bound was last computed, (N, 4)."),
 )
