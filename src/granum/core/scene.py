@@ -14,6 +14,7 @@ import hashlib
 
 import numpy as np
 
+from granum.core import validate
 from granum.core.arrays import (
     I_HOMO_DEFORM,
     I_ITER,
@@ -126,10 +127,7 @@ class Scene(BodyStore):
     @dt.setter
     def dt(self, value: float) -> None:
         value = float(value)
-        # 0 is allowed, as in YADE (its periodic-cell tests step with dt = 0: nothing moves, the cell's
-        # velocity gradient still sets the velocities)
-        if not value >= 0.0 or not np.isfinite(value):
-            raise ValueError(f"O.dt must be a finite time step in seconds, not negative, got {value!r}")
+        validate.TIME_STEP.check(value, "O.dt")
         self.scal[S_DT] = value
 
     @property

@@ -22,7 +22,9 @@ never interrupted, because the storage is saved exactly as it is, not reconstruc
 
 Objects are rebuilt through the classes the ``granum.yade`` namespace exports, by name, with
 their declared attributes as constructor keywords (read-only ones and private state set
-afterwards), so no code is ever taken from a file. A value that cannot be represented without
+afterwards): no class, function or pickle is taken from a file. Loading runs no code, but the
+engines loaded run with the scene, and a ``PyRunner``'s ``command`` is Python code executed at
+``O.run``: a checkpoint is to be trusted as a script is. A value that cannot be represented without
 code -- a Python callable, an object of a class defined in a script -- makes saving fail with
 a :class:`~granum.io.checkpoint_formats.CheckpointError` naming the engine and attribute,
 before anything is written.
@@ -37,11 +39,13 @@ array}}``.
 
 On loading, everything is checked before the scene is used: the container's checksums (see
 :mod:`granum.io.checkpoint_formats`), every array's dtype and shape against a fresh scene, the
-types of the plain fields, and the indices compiled kernels follow without bounds checks (body
-shapes, materials, clumps, pairs, contacts, per-body contact index), so a bad file gives an
-error instead of a crash. Contacts store functor codes; the checkpoint records the functor
-names of each code, and codes are translated if this granum registers its functors in another
-order. Saving from inside an engine (a ``PyRunner`` calling ``O.save``) stores the state in the
+types of the plain fields, the indices compiled kernels follow without bounds checks (body
+shapes, materials, clumps, pairs, contacts, per-body contact index, functor codes), and the
+values with the rules the setters apply (:mod:`granum.core.validate`: ``O.dt``, the cell, the
+state and shape of every body), so a bad file gives an error instead of a crash. Contacts
+store functor codes; the checkpoint records the functor names of each code, and codes are
+translated if this granum registers its functors in another order. Saving from inside an
+engine (a ``PyRunner`` calling ``O.save``) stores the state in the
 middle of the step; loading it resumes at the start of that step, as in YADE.
 """
 
@@ -53,7 +57,8 @@ import os
 import numpy as np
 
 from granum import mathtypes
-from granum.core.arrays import ENERGY_NAMES
+from granum.core import validate
+from granum.core.arrays import ENERGY_NAMES, I_HOMO_DEFORM, I_HOOK, S_DT
 from granum.core.attrs import Attributed
 from granum.core.bodies import ShapeKind
 from granum.core.contacts import (
@@ -417,6 +422,47 @@ def _range(a: np.ndarray, lo: int, hi: int, what: str, source: str) -> None:
         raise CheckpointError(f"{source}: corrupt checkpoint ({what} out of range)")
 
 
+#: Body columns and the rule their setters (``Body.state``) apply, checked for the bodies in use.
+_BODY_RULES = {"pos": validate.FINITE_VECTOR, "vel": validate.FINITE_VECTOR, "ang_vel": validate.FINITE_VECTOR,
+               "ang_mom": validate.FINITE_VECTOR, "inertia": validate.FINITE_VECTOR,
+               "ref_pos": validate.FINITE_VECTOR, "color": validate.FINITE_VECTOR,
+               "mass": validate.NON_NEGATIVE_FINITE, "ori": validate.QUATERNION}
+#: Shape columns and the rule their setters (``Sphere.radius``, ...) apply, checked for the shapes bodies use.
+_SHAPE_RULES = {ShapeKind.SPHERE: {"radius": validate.POSITIVE_FINITE},
+                ShapeKind.FACET: {"vertices": validate.TRIANGLE},
+                ShapeKind.WALL: {"axis": validate.WALL_AXIS, "sense": validate.WALL_SENSE},
+                ShapeKind.BOX: {"extents": validate.EXTENTS}}
+
+
+def _obeys(rule: validate.Rule, values, name: str, source: str, ids=None) -> None:
+    """Raise :class:`CheckpointError` unless ``values`` obey ``rule`` (see :meth:`validate.Rule.check_items`)."""
+    try:
+        rule.check_items(values, name, ids)
+    except ValueError as e:
+        raise CheckpointError(f"{source}: invalid checkpoint ({e})") from e
+
+
+def scene_values_check(scene: Scene, source: str) -> None:
+    """The loaded values must obey the rules the setters enforce (:mod:`granum.core.validate`): time
+    step, cell, and the state and shape of every body in use. Call after :func:`scene_check`."""
+    _obeys(validate.TIME_STEP, scene.scal[S_DT], "O.dt", source)
+    _obeys(validate.HOMO_DEFORM, scene.iscal[I_HOMO_DEFORM], "O.cell.homoDeform", source)
+    _obeys(validate.CELL_BASE, scene.cell_hsize, "O.cell.hSize", source)
+    _obeys(validate.CELL_BASE, scene.cell_ref_hsize, "O.cell.refHSize", source)
+    _obeys(validate.FINITE_MATRIX, scene.cell_velgrad, "O.cell.velGrad", source)
+    b = scene.bodies
+    ids = np.flatnonzero(b.alive[: b.count])
+    for column, rule in _BODY_RULES.items():
+        if b.allocated(column):
+            _obeys(rule, getattr(b, column)[ids], f"O.bodies[{{}}].state.{column}", source, ids)
+    kind = b.shape_kind[ids]
+    for k, rules in _SHAPE_RULES.items():
+        of_kind = ids[kind == k]
+        rows = b.shape_row[of_kind]
+        for column, rule in rules.items():
+            _obeys(rule, getattr(scene.shapes[k], column)[rows], f"O.bodies[{{}}].shape.{column}", source, of_kind)
+
+
 def scene_check(scene: Scene, source: str) -> None:
     """The indices compiled kernels follow without bounds checks must point inside their arrays."""
     from granum.kernels.dispatch import functors
@@ -430,6 +476,7 @@ def scene_check(scene: Scene, source: str) -> None:
         _range(b.shape_row[:n][alive & (kind == k)], 0, t.count, f"{k.name.lower()} shape row", source)
     _range(b.material[:n][alive], -1, len(scene.materials), "body material", source)
     _range(b.clump_id[:n], -1, n, "clump id", source)
+    _range(scene.iscal[I_HOOK:I_HOOK + 1], 0, len(scene.engines) + 1, "engine hook index", source)
     members = scene.clump_members
     _range(members.id[: members.count], 0, n, "clump member id", source)
     clumps = scene.shapes[ShapeKind.CLUMP]
@@ -487,6 +534,7 @@ def scene_decode(meta, arrays: dict[str, np.ndarray], source: str):
         materials.append(m)
     _codes_translate(scene.contacts, meta["layout"]["functors"], source)
     scene_check(scene, source)
+    scene_values_check(scene, source)
     return scene, materials
 
 

@@ -28,8 +28,15 @@ Header: ``{"format": "granum-checkpoint", "version": 1, "digest": ..., "arrays":
 of ``arrays`` and ``meta`` together, and each array's bytes must match its own ``sha256``, so a
 flipped byte anywhere -- also in formats without checksums of their own (XML, HDF5) -- is
 reported instead of resuming from wrong data. Arrays are plain numbers only (dtype kinds
-``b``, ``i``, ``u``, ``f``); ``.npy`` members are read with ``allow_pickle=False`` and nothing
-read is ever executed or unpickled. A file that is not a granum checkpoint -- a YADE checkpoint
+``b``, ``i``, ``u``, ``f``); ``.npy`` members are parsed without pickle and nothing read is
+unpickled (the engines a checkpoint holds are another matter: see :mod:`granum.io.checkpoint`).
+
+Sizes are checked before data are read or inflated: zip members (stored uncompressed, as granum
+writes them) and HDF5 datasets (uncompressed) against the array table of the manifest (shape x
+item size, plus the ``.npy`` header), both as declared and as actually read; a ``.gz``/``.bz2``
+layer is inflated as a stream, at most to the size the inner zip's manifest implies and never
+beyond a fixed allowance or ratio (see :data:`_INFLATE_RATIO`), so a decompression bomb is
+refused instead of filling memory or the temporary folder. A file that is not a granum checkpoint -- a YADE checkpoint
 (boost::serialization, binary or XML), another zip, XML or HDF5 file, a picture, text -- is
 reported as such by :class:`CheckpointError`, as are truncated and corrupt files.
 """
@@ -71,6 +78,20 @@ _H5_ATTR = "granum-checkpoint"
 _DTYPE = re.compile(r"[<>|=]?(b1|[iu][1248]|f[48])")
 # characters XML 1.0 cannot carry (and CR, which parsers turn into LF): such strings are stored in base64
 _XML_UNSAFE = re.compile("[^\t\n\x20-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]")
+#: Bytes an ``.npy`` member may hold beyond its array data (its header; NumPy writes 128 or so).
+_NPY_SLACK = 4096
+#: Largest manifest (``granum.json``) read [bytes]; a granum scene's manifest is a few kB to a few MB.
+_MANIFEST_MAX = 16 << 20
+#: Bytes a compressed (``.gz``/``.bz2``) checkpoint may inflate to without further justification, and the
+#: ratio to its compressed size beyond that. A granum checkpoint is mostly floating-point state (which
+#: gzip and bzip2 shrink less than 10-fold) plus spare capacity, at most as large again (tables grow by
+#: doubling), so a real one inflates far less than 1000-fold; a decompression bomb (zeros: 1:10^6 with
+#: bzip2) is stopped after the allowance instead of filling the disk.
+_INFLATE_FLOOR = 32 << 20
+_INFLATE_RATIO = 1000
+#: Per-member bytes a zip archive adds around its data (local header, central directory entry, zip64
+#: extra fields), name excluded; the bound on an inflated ``.yade`` zip also allows for its end records.
+_ZIP_MEMBER_OVERHEAD = 256
 _ERRORS = (OSError, EOFError, ValueError, KeyError, TypeError, zipfile.BadZipFile, ET.ParseError, zlib.error)
 
 
@@ -158,16 +179,58 @@ def _zip_write(f, header: dict, arrays: dict) -> None:
                 np.lib.format.write_array(member, np.ascontiguousarray(a), allow_pickle=False)
 
 
+def array_nbytes(spec: dict) -> int:
+    """Bytes of the data of an array described by the header entry ``spec`` (shape x item size)."""
+    return int(np.prod(spec["shape"], dtype=object)) * np.dtype(spec["dtype"]).itemsize
+
+
+def _zip_member(z: zipfile.ZipFile, member: str, limit: int, source: str) -> bytes:
+    """The bytes of ``member``, refused unless it is stored uncompressed, as granum writes it, and both its
+    size in the central directory and the bytes actually read are at most ``limit``."""
+    try:
+        info = z.getinfo(member)
+    except KeyError:
+        raise CheckpointError(f"{source}: corrupt checkpoint (no member {member})") from None
+    if info.compress_type != zipfile.ZIP_STORED:
+        raise CheckpointError(f"{source}: member {member} is compressed (method {info.compress_type}); granum "
+                              f"stores checkpoint members uncompressed (compress the whole file: .yade.gz)")
+    if info.file_size > limit:
+        raise CheckpointError(f"{source}: member {member} is {info.file_size} bytes; the manifest allows at "
+                              f"most {limit}")
+    with z.open(info) as m:
+        data = m.read(limit + 1)
+    if len(data) > limit:
+        raise CheckpointError(f"{source}: member {member} holds more than the {limit} bytes the manifest allows")
+    return data
+
+
+def _npy_parse(name: str, data: bytes, spec: dict, source: str) -> np.ndarray:
+    """The array of an ``.npy`` member, its header checked against ``spec`` before any data are used."""
+    buf = io.BytesIO(data)
+    version = np.lib.format.read_magic(buf)
+    read_header = np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
+    shape, fortran_order, dtype = read_header(buf)
+    if dtype.str != spec["dtype"] or list(shape) != spec["shape"] or fortran_order:
+        raise CheckpointError(f"{source}: corrupt checkpoint (array {name!r} is {dtype.str} {list(shape)}"
+                              f"{' in Fortran order' if fortran_order else ''}, the manifest says {spec['dtype']} "
+                              f"{spec['shape']})")
+    raw = data[buf.tell():]
+    if len(raw) != array_nbytes(spec):
+        raise CheckpointError(f"{source}: corrupt checkpoint (array {name!r} has {len(raw)} bytes of data, "
+                              f"the manifest says {array_nbytes(spec)})")
+    return np.frombuffer(raw, dtype).reshape(shape).copy()
+
+
 def _zip_read(f, source: str) -> tuple:
     with zipfile.ZipFile(f) as z:
         if _ZIP_MANIFEST not in z.namelist():
             raise CheckpointError(f"{source} is a zip archive but not a granum checkpoint (no {_ZIP_MANIFEST})")
-        header = json.loads(z.read(_ZIP_MANIFEST))
+        header = json.loads(_zip_member(z, _ZIP_MANIFEST, _MANIFEST_MAX, source))
         header_check(header, source)
         arrays = {}
         for name, spec in header["arrays"].items():
-            a = np.lib.format.read_array(io.BytesIO(z.read(f"arrays/{name}.npy")), allow_pickle=False)
-            arrays[name] = _array_check(name, a, spec, source)
+            data = _zip_member(z, f"arrays/{name}.npy", array_nbytes(spec) + _NPY_SLACK, source)
+            arrays[name] = _array_check(name, _npy_parse(name, data, spec, source), spec, source)
     return header["meta"], arrays
 
 
@@ -189,8 +252,20 @@ def _h5_read(f, source: str) -> tuple:
             raise CheckpointError(f"{source} is an HDF5 file but not a granum checkpoint (no {_H5_ATTR!r} attribute)")
         header = json.loads(h.attrs[_H5_ATTR])
         header_check(header, source)
-        arrays = {name: _array_check(name, h[f"arrays/{name}"][()], spec, source)
-                  for name, spec in header["arrays"].items()}
+        arrays = {}
+        for name, spec in header["arrays"].items():
+            d = h.get(f"arrays/{name}")
+            if not isinstance(d, h5py.Dataset):
+                raise CheckpointError(f"{source}: corrupt checkpoint (no dataset arrays/{name})")
+            if d.dtype.str != spec["dtype"] or list(d.shape) != spec["shape"]:
+                raise CheckpointError(f"{source}: corrupt checkpoint (array {name!r} is {d.dtype.str} "
+                                      f"{list(d.shape)}, the manifest says {spec['dtype']} {spec['shape']})")
+            # granum writes datasets uncompressed and whole: stored bytes = data bytes, nothing to inflate
+            if d.compression is not None or d.id.get_storage_size() != array_nbytes(spec):
+                raise CheckpointError(f"{source}: array {name!r} is stored in {d.id.get_storage_size()} bytes "
+                                      f"(compression {d.compression}); granum stores its {array_nbytes(spec)} "
+                                      f"bytes uncompressed")
+            arrays[name] = _array_check(name, d[()], spec, source)
     return header["meta"], arrays
 
 
@@ -351,6 +426,46 @@ def _inner_read(f, source: str) -> tuple:
     raise CheckpointError(f"{source} is {_describe(head)}")
 
 
+def _zip_bound(head: bytes) -> int | None:
+    """Largest size a ``.yade`` zip starting with ``head`` may have, from the array table of its manifest
+    (the first member, as granum writes it); None when ``head`` does not start with a readable manifest."""
+    if len(head) < 30 or not head.startswith(_MAGIC_ZIP):
+        return None
+    method, size, name_len, extra_len = (int.from_bytes(head[k:k + n], "little")
+                                         for k, n in ((8, 2), (18, 4), (26, 2), (28, 2)))
+    start = 30 + name_len + extra_len
+    if head[30:30 + name_len] != _ZIP_MANIFEST.encode() or method != zipfile.ZIP_STORED or \
+            len(head) < start + size:
+        return None
+    try:
+        table = json.loads(head[start:start + size])["arrays"]
+        data = sum(array_nbytes(spec) + _NPY_SLACK + 2 * (len(name) + _ZIP_MEMBER_OVERHEAD)
+                   for name, spec in table.items())
+    except (ValueError, KeyError, TypeError, AttributeError):
+        return None
+    return start + size + 2 * _ZIP_MEMBER_OVERHEAD + data
+
+
+def _inflate(z, out, compressed_size: int, source: str) -> None:
+    """Copy the decompressed stream ``z`` to the file ``out``, refusing to go beyond what the checkpoint
+    may legitimately hold: for a ``.yade`` zip, the size its manifest's array table implies; in any case
+    :data:`_INFLATE_FLOOR` or :data:`_INFLATE_RATIO` times the ``compressed_size`` [bytes]."""
+    limit = max(_INFLATE_FLOOR, _INFLATE_RATIO * compressed_size)
+    head = z.read(min(limit, _MANIFEST_MAX + 64 * 1024))
+    bound = _zip_bound(head)
+    if bound is not None:
+        limit = min(limit, bound)
+    out.write(head)
+    written = len(head)
+    while chunk := z.read(1 << 20):
+        written += len(chunk)
+        if written > limit:
+            raise CheckpointError(f"{source} inflates to more than {limit} bytes, more than a checkpoint of "
+                                  f"its size{' and manifest' if bound is not None else ''} can hold "
+                                  f"(a decompression bomb?); refused")
+        out.write(chunk)
+
+
 def container_read(f, source: str) -> tuple[object, dict[str, np.ndarray]]:
     """``(meta, arrays)`` of the checkpoint in the seekable binary file ``f`` (any format, detected from
     its content); ``source`` names it in errors. Raises :class:`CheckpointError`."""
@@ -360,9 +475,11 @@ def container_read(f, source: str) -> tuple[object, dict[str, np.ndarray]]:
         compression = "gzip" if head.startswith(_MAGIC_GZIP) else "bzip2" if head.startswith(_MAGIC_BZ2) else None
         if compression is None:
             return _inner_read(f, source)
+        compressed_size = f.seek(0, io.SEEK_END)
+        f.seek(0)
         with tempfile.TemporaryFile() as inner:
             with gzip.GzipFile(fileobj=f) if compression == "gzip" else bz2.BZ2File(f) as z:
-                shutil.copyfileobj(z, inner)
+                _inflate(z, inner, compressed_size, f"{source} ({compression}-compressed)")
             inner.seek(0)
             return _inner_read(inner, f"{source} ({compression}-compressed)")
     except CheckpointError:

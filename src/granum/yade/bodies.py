@@ -10,10 +10,9 @@ created by ``utils.sphere(...)`` lives in a private one-row store until
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
+from granum.core import validate
 from granum.core.bodies import DOF_ALL, ShapeKind, dofs_from_string, dofs_to_string
 from granum.core.contacts import C_CONTACTS, FLAG_ALIVE, I_FLAGS, I_ID1, I_ID2, end_contact
 from granum.core.scene import BodyStore, Scene
@@ -63,8 +62,7 @@ def _new_detached() -> tuple[BodyStore, int]:
 
 def _finite3(owner: str, name: str, value) -> np.ndarray:
     a = as_vec3(value)
-    if not np.all(np.isfinite(a)):
-        raise ValueError(f"{owner}.{name} must be finite, got {tuple(a)}")
+    validate.FINITE_VECTOR.check(a, f"{owner}.{name}")
     return a
 
 
@@ -296,10 +294,8 @@ def _quat_property(column: str, doc: str):
 
     def set(self, value):
         q = as_quat_wxyz(value)
-        n = np.linalg.norm(q)
-        if not (np.isfinite(n) and n > 0):
-            raise ValueError(f"{self._owner()}.{column} must be a finite non-zero quaternion")
-        self._col(column)[self._row] = q / n
+        validate.QUATERNION.check(q, f"{self._owner()}.{column}")
+        self._col(column)[self._row] = q / np.linalg.norm(q)
 
     return property(get, set, doc=doc)
 
@@ -353,8 +349,7 @@ class State(_View):
     @mass.setter
     def mass(self, value: float) -> None:
         x = float(value)
-        if not (math.isfinite(x) and x >= 0):
-            raise ValueError(f"{self._owner()}.mass must be a finite non-negative number, got {value!r}")
+        validate.NON_NEGATIVE_FINITE.check(x, f"{self._owner()}.mass")
         self._col("mass")[self._row] = x
 
     @property
@@ -477,8 +472,7 @@ class Sphere(Shape):
     @radius.setter
     def radius(self, value: float) -> None:
         r = float(value)
-        if not (math.isfinite(r) and r > 0):
-            raise ValueError(f"{self._owner()}.radius must be positive and finite, got {value!r}")
+        validate.POSITIVE_FINITE.check(r, f"{self._owner()}.radius")
         t, row = self._table()
         t.radius[row] = r
         self._body._touch()
@@ -497,13 +491,12 @@ class Facet(Shape):
 
     @vertices.setter
     def vertices(self, value) -> None:
-        v = np.array([as_vec3(x) for x in value]) if len(value) == 3 else None
-        if v is None or not np.all(np.isfinite(v)):
-            raise ValueError(f"{self._owner()}.vertices must be three finite 3-vectors")
+        if len(value) != 3:
+            raise ValueError(f"{self._owner()}.vertices {validate.TRIANGLE.says}, got {len(value)} vectors")
+        v = np.array([as_vec3(x) for x in value])
+        validate.TRIANGLE.check(v, f"{self._owner()}.vertices")
         n = np.cross(v[1] - v[0], v[2] - v[0])
         area2 = np.linalg.norm(n)
-        if not area2 > 0:
-            raise ValueError(f"{self._owner()}.vertices are collinear: the facet has no area")
         t, row = self._table()
         t.vertices[row] = v
         t.normal[row] = n / area2
@@ -534,8 +527,7 @@ class Wall(Shape):
 
     @axis.setter
     def axis(self, value: int) -> None:
-        if value not in (0, 1, 2):
-            raise ValueError(f"{self._owner()}.axis must be 0, 1 or 2, got {value!r}")
+        validate.WALL_AXIS.check(value, f"{self._owner()}.axis")
         t, row = self._table()
         t.axis[row] = value
         self._body._touch()
@@ -547,8 +539,7 @@ class Wall(Shape):
 
     @sense.setter
     def sense(self, value: int) -> None:
-        if value not in (-1, 0, 1):
-            raise ValueError(f"{self._owner()}.sense must be -1, 0 or 1, got {value!r}")
+        validate.WALL_SENSE.check(value, f"{self._owner()}.sense")
         t, row = self._table()
         t.sense[row] = value
 
@@ -566,9 +557,8 @@ class Box(Shape):
 
     @extents.setter
     def extents(self, value) -> None:
-        e = _finite3(self._owner(), "extents", value)
-        if np.any(e < 0):
-            raise ValueError(f"{self._owner()}.extents must be non-negative, got {tuple(e)}")
+        e = as_vec3(value)
+        validate.EXTENTS.check(e, f"{self._owner()}.extents")
         t, row = self._table()
         t.extents[row] = e
         self._body._touch()

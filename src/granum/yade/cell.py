@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from granum.core import validate
 from granum.mathtypes import Matrix3, Vector3, as_mat3, as_vec3
 from granum.physics.vec import det3 as _compiled_det3
 
@@ -59,8 +60,7 @@ class Cell:
     @hSize.setter
     def hSize(self, value) -> None:
         h = as_mat3(value)
-        if not np.all(np.isfinite(h)) or not det3(h) > 0:
-            raise DegenerateCellError(f"Cell.hSize must be finite with a positive volume, got det = {det3(h)!r}")
+        validate.CELL_BASE.check(h, "Cell.hSize", DegenerateCellError)
         s = self._scene
         s.cell_hsize[:] = h
         s.cell_ref_hsize[:] = h
@@ -114,8 +114,7 @@ class Cell:
     @velGrad.setter
     def velGrad(self, value) -> None:
         L = as_mat3(value)
-        if not np.all(np.isfinite(L)):
-            raise ValueError("Cell.velGrad must be finite")
+        validate.FINITE_MATRIX.check(L, "Cell.velGrad")
         self._scene.cell_velgrad[:] = L
 
     nextVelGrad = velGrad
@@ -145,8 +144,7 @@ class Cell:
     def homoDeform(self, value: int) -> None:
         from granum.core.arrays import I_HOMO_DEFORM
 
-        if value not in (0, 1, 2):
-            raise ValueError(f"Cell.homoDeform must be 0, 1 or 2, got {value!r}")
+        validate.HOMO_DEFORM.check(value, "Cell.homoDeform")
         self._scene.iscal[I_HOMO_DEFORM] = value
 
     # ---- points ------------------------------------------------------------------------

@@ -581,7 +581,13 @@ class Omega:
                 self.run()
 
     def load(self, file, quiet: bool = False) -> None:
-        """Replace the scene by the one saved in ``file`` with :meth:`save` (stops a running simulation)."""
+        """Replace the scene by the one saved in ``file`` with :meth:`save` (stops a running simulation).
+
+        The file is checked before the current scene is replaced (a bad or hostile file raises
+        :class:`~granum.io.checkpoint_formats.CheckpointError`), and loading runs no code; but the
+        scene's engines come with it, and a ``PyRunner``'s ``command`` is Python code run at
+        :meth:`run`, as in YADE. Load only checkpoints you trust, as you would run only scripts you
+        trust."""
         self._stop_and_wait()
         self._new_scene(*checkpoint.checkpoint_read(file))
         self.filename = str(file)
