@@ -11,6 +11,9 @@ from __future__ import annotations
 
 import difflib
 import math
+import numbers
+
+import numpy as np
 
 
 class Attr:
@@ -114,14 +117,32 @@ def _copy_default(v):
     return v
 
 
+def as_number(value, what: str) -> float:
+    """``value`` as a float, or TypeError naming ``what`` ("Sphere.radius"). A bool is refused although
+    ``float(True)`` is 1.0: a flag given where a quantity is expected is a mistake, not a value; so is a
+    string, even ``"1"`` (YADE refuses strings for numbers too)."""
+    if isinstance(value, bool | np.bool_ | str | bytes):
+        raise TypeError(f"{what} must be a number, got {value!r}")
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise TypeError(f"{what} must be a number, got {value!r}") from None
+
+
+def as_flag(value, what: str) -> bool:
+    """``value`` as a bool, or TypeError naming ``what`` ("sphere: fixed"). Accepts True/False (also
+    NumPy's) and the integers 0 and 1, as YADE's scripts write them; refuses anything else, such as the
+    string ``'no'``, which Python would take as True."""
+    if isinstance(value, bool | np.bool_) or (isinstance(value, numbers.Integral) and value in (0, 1)):
+        return bool(value)
+    raise TypeError(f"{what} must be True or False, got {value!r}")
+
+
 def to_float(name: str, positive: bool = False, allow_nan: bool = True):
     """Converter to float that names the attribute in its error messages."""
 
     def convert(owner, value):
-        try:
-            x = float(value)
-        except (TypeError, ValueError):
-            raise TypeError(f"{type(owner).__name__}.{name} must be a number, got {value!r}") from None
+        x = as_number(value, f"{type(owner).__name__}.{name}")
         if math.isnan(x) and not allow_nan:
             raise ValueError(f"{type(owner).__name__}.{name} must not be NaN")
         if positive and not x > 0:
@@ -131,13 +152,16 @@ def to_float(name: str, positive: bool = False, allow_nan: bool = True):
     return convert
 
 
-def to_int(name: str):
-    def convert(owner, value):
-        if isinstance(value, bool) or not float(value).is_integer():
-            raise TypeError(f"{type(owner).__name__}.{name} must be an integer, got {value!r}")
-        return int(value)
+def as_integer(value, what: str) -> int:
+    """``value`` as an int (``2.0`` is 2), or TypeError naming ``what`` for a bool, a fraction or a non-number."""
+    if isinstance(value, bool | np.bool_) or not float(as_number(value, what)).is_integer():
+        raise TypeError(f"{what} must be an integer, got {value!r}")
+    return int(value)
 
-    return convert
+
+def to_int(name: str):
+    """Converter to int that names the attribute in its error messages (see :func:`as_integer`)."""
+    return lambda owner, value: as_integer(value, f"{type(owner).__name__}.{name}")
 
 
 def to_bool(owner, value):

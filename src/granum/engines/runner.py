@@ -23,19 +23,16 @@ import numpy as np
 from granum._jit import call, entry, entry_points
 from granum.core import heap
 from granum.core.arrays import I_HOOK
-from granum.core.bodies import ShapeKind
 from granum.core.contacts import (
     C_COLLIDER_RUNS,
     C_ERR_A,
     C_ERR_B,
     C_STATUS,
     CONTACTS,
-    STATUS_NO_GEOM,
-    STATUS_NO_PHYS,
-    STATUS_NONFINITE,
 )
 from granum.core.records import Record
 from granum.engines.base import PeriodicEngine
+from granum.engines.status import status_message
 from granum.kernels import steploop
 from granum.kernels.cell import step_begin, step_end
 from granum.kernels.static import Static
@@ -305,24 +302,8 @@ class Runner:
             plan.compiled[k - 1].run_hook(self.omega)
 
     def raise_status(self):
-        scene = self.scene
-        ctr = scene.contacts.ctr
+        """Raise the SimulationError of the failure status a kernel left in the contact counters (and clear it)."""
+        ctr = self.scene.contacts.ctr
         status, a, b = int(ctr[C_STATUS]), int(ctr[C_ERR_A]), int(ctr[C_ERR_B])
         ctr[C_STATUS] = 0
-        if status == STATUS_NONFINITE:
-            bd = scene.bodies
-            raise SimulationError(
-                f"step {scene.iter}: body {a} has a non-finite or exploding state (pos={tuple(bd.pos[a])}, "
-                f"vel={tuple(bd.vel[a])}); is O.dt too large (compare PWaveTimeStep())? "
-                f"The scene is kept as this step left it.")
-        if status == STATUS_NO_GEOM:
-            sa, sb = (ShapeKind(int(scene.bodies.shape_kind[i])).name.capitalize() for i in (a, b))
-            raise SimulationError(f"step {scene.iter}: bodies {a} ({sa}) and {b} ({sb}) may collide but no "
-                                  f"IGeom functor for {sa}+{sb} is listed in InteractionLoop; "
-                                  f"add the matching Ig2_ functor")
-        mats = [type(scene.materials[scene.bodies.material[i]]).__name__ for i in (a, b)]
-        if status == STATUS_NO_PHYS:
-            raise SimulationError(f"step {scene.iter}: no IPhys functor in InteractionLoop for the material pair "
-                                  f"{mats[0]}+{mats[1]} (bodies {a} and {b}); add the matching Ip2_ functor")
-        raise SimulationError(f"step {scene.iter}: no Law2 functor in InteractionLoop for the contact of bodies "
-                              f"{a} and {b} (materials {mats[0]}+{mats[1]}); add the matching Law2_ functor")
+        raise SimulationError(status_message(self.scene, status, a, b))

@@ -29,7 +29,7 @@ from granum.core.contacts import (
     I_FLAGS,
 )
 from granum.physics import materials, registry
-from granum.physics.registry import Functor, MaterialKind, Param
+from granum.physics.registry import Functor, MaterialKind, Param, Range
 from granum.physics.scgeom import (
     contact_shift,
     scgeom_incident_vel,
@@ -41,7 +41,9 @@ from granum.physics.vec import dot, norm, scale, sub
 
 registry.register_material(MaterialKind(
     "FrictMat", "ElastMat",
-    (Param("frictionAngle", 0.5, "Contact friction angle [rad]"),),
+    (Param("frictionAngle", 0.5, "Contact friction angle [rad]",
+           valid=Range(0.0, math.pi / 2, why="the Coulomb limit of the shear force is |Fn| tan(frictionAngle), "
+                                            "which must not be negative")),),
     columns={"frictionAngle": "friction_angle"},
     doc="Elastic material with Coulomb friction."))
 registry.register_phys_type("IPhys")

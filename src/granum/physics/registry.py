@@ -33,6 +33,7 @@ Calling conventions of the registered compiled functions (``S``: scene arrays,
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 from granum.core.bodies import ShapeKind
@@ -54,17 +55,59 @@ class TypeInfo:
 
 
 @dataclass(frozen=True)
+class Range:
+    """The values a float parameter may take for its law to stay physical.
+
+    A value must be finite and lie between ``low`` and ``high`` (excluded when ``low_open`` /
+    ``high_open``); ``why`` says, for the error message, what goes wrong outside.
+    """
+
+    low: float = -math.inf
+    high: float = math.inf
+    low_open: bool = False
+    high_open: bool = False
+    why: str = ""
+
+    def holds(self, x: float) -> bool:
+        """Whether ``x`` lies in the range (NaN and infinities never do)."""
+        above = x > self.low if self.low_open else x >= self.low
+        below = x < self.high if self.high_open else x <= self.high
+        return math.isfinite(x) and above and below
+
+    def says(self) -> str:
+        """The requirement, as the end of a sentence naming the value ("must be finite and >= 0")."""
+        parts = []
+        if self.low > -math.inf:
+            parts.append(f"{'>' if self.low_open else '>='} {self.low:g}")
+        if self.high < math.inf:
+            parts.append(f"{'<' if self.high_open else '<='} {self.high:g}")
+        return "must be finite" + (" and " + " and ".join(parts) if parts else "")
+
+
+@dataclass(frozen=True)
 class Param:
     """A functor or material parameter: YADE attribute name, default, meaning and units.
 
     ``supported=False`` marks a YADE attribute granum accepts for compatibility but
     does not implement: any value other than the default is refused when the scene runs.
+    ``valid`` is the :class:`Range` a float value must lie in (None: any float); a parameter
+    whose default is NaN is optional and NaN stands for "not given".
     """
 
     name: str
     default: object
     doc: str = ""
     supported: bool = True
+    valid: Range | None = None
+
+    def check(self, owner: str, value: float) -> None:
+        """Raise ValueError naming ``owner.name``, the valid range and ``value`` unless ``value`` (a float)
+        is valid for this parameter. The material classes check every assignment with it."""
+        optional = isinstance(self.default, float) and math.isnan(self.default)
+        if self.valid is None or (optional and math.isnan(value)) or self.valid.holds(value):
+            return
+        why = f" ({self.valid.why})" if self.valid.why and math.isfinite(value) else ""
+        raise ValueError(f"{owner}.{self.name} {self.valid.says()}{why}, got {value!r}")
 
 
 @dataclass(frozen=True)

@@ -43,26 +43,33 @@ from granum.core.contacts import (
 )
 from granum.physics import materials, registry
 from granum.physics.frict import M_FRICTION
-from granum.physics.registry import Functor, MaterialKind, Param
+from granum.physics.materials import NON_NEGATIVE
+from granum.physics.registry import Functor, MaterialKind, Param, Range
 from granum.physics.scgeom import contact_shift, scgeom_incident_vel, scgeom_rotate_shear, tangential
 from granum.physics.vec import dot, scale, sub
 
 _NAN = float("nan")
+#: a restitution coefficient: above 1 a collision creates energy
+_RESTITUTION = Range(0.0, 1.0, why="a restitution coefficient above 1 creates energy")
 registry.register_material(MaterialKind(
     "ViscElMat", "FrictMat",
-    (Param("tc", _NAN, "Contact time [s]"),
-     Param("en", _NAN, "Normal restitution coefficient [-]"),
-     Param("et", _NAN, "Tangential restitution coefficient [-]"),
-     Param("kn", _NAN, "Normal stiffness [N/m] (used when tc, en, et are not given)"),
-     Param("cn", _NAN, "Normal damping [N s/m]"),
-     Param("ks", _NAN, "Shear stiffness [N/m]"),
-     Param("cs", _NAN, "Shear damping [N s/m]"),
+    (Param("tc", _NAN, "Contact time [s]", valid=Range(0.0, low_open=True, why="a contact lasts some time")),
+     Param("en", _NAN, "Normal restitution coefficient [-] (0: no normal spring nor dashpot, as in YADE)",
+           valid=_RESTITUTION),
+     Param("et", _NAN, "Tangential restitution coefficient [-] (0: no shear spring nor dashpot, as in YADE)",
+           valid=_RESTITUTION),
+     Param("kn", _NAN, "Normal stiffness [N/m] (used when tc, en, et are not given)", valid=NON_NEGATIVE),
+     Param("cn", _NAN, "Normal damping [N s/m]", valid=NON_NEGATIVE),
+     Param("ks", _NAN, "Shear stiffness [N/m]", valid=NON_NEGATIVE),
+     Param("cs", _NAN, "Shear damping [N s/m]", valid=NON_NEGATIVE),
      Param("mR", 0.0, "Rolling resistance coefficient [-] (rolling resistance is not implemented yet: only 0)",
            supported=False),
      Param("mRtype", 1, "Rolling resistance model, 1 or 2 [-] (no effect while mR is 0)"),
      Param("lubrication", False, "Lubrication (not implemented yet: only False)", supported=False),
-     Param("viscoDyn", 0.001, "Fluid viscosity for lubrication [Pa s] (no effect without lubrication)"),
-     Param("roughnessScale", 0.001, "Roughness for lubrication [m] (no effect without lubrication)")),
+     Param("viscoDyn", 0.001, "Fluid viscosity for lubrication [Pa s] (no effect without lubrication)",
+           valid=NON_NEGATIVE),
+     Param("roughnessScale", 0.001, "Roughness for lubrication [m] (no effect without lubrication)",
+           valid=NON_NEGATIVE)),
     columns={"tc": "visc_tc", "en": "visc_en", "et": "visc_et", "kn": "visc_kn", "cn": "visc_cn",
              "ks": "visc_ks", "cs": "visc_cs"},
     doc="Material of the linear visco-elastic contact (spring-dashpot with Coulomb friction)."))
@@ -86,16 +93,26 @@ M_CS = materials.column("visc_cs")
 
 
 @jit
+def spring_dashpot(m, tc, e):
+    """``(k, c)`` of the damped oscillator of mass ``m`` [kg] lasting ``tc`` [s] with restitution ``e``:
+    ``k = m (pi^2 + ln^2 e) / tc^2`` [N/m], ``c = -2 m ln(e) / tc`` [N s/m]; ``e = 0`` means no spring nor
+    dashpot at all (``(0, 0)``, as in YADE), not the infinite ones the formula would give."""
+    if e == 0.0:
+        return 0.0, 0.0
+    ln_e = math.log(e)
+    return m * (math.pi ** 2 + ln_e ** 2) / tc ** 2, -2.0 * m * ln_e / tc
+
+
+@jit
 def body_constants(m, mat):
     """``(kn, cn, ks, cs)`` of one body of mass ``m`` with ViscElMat parameters ``mat``."""
     tc = mat[M_TC]
     en = mat[M_EN]
     et = mat[M_ET]
     if tc == tc and en == en and et == et:
-        ln_en = math.log(en)
-        ln_et = math.log(et)
-        return (m * (math.pi ** 2 + ln_en ** 2) / tc ** 2, -2.0 * m * ln_en / tc,
-                2.0 / 7.0 * m * (math.pi ** 2 + ln_et ** 2) / tc ** 2, -2.0 / 7.0 * 2.0 * m * ln_et / tc)
+        kn, cn = spring_dashpot(m, tc, en)
+        ks, cs = spring_dashpot(m, tc, et)
+        return kn, cn, 2.0 / 7.0 * ks, 2.0 / 7.0 * cs
     return (mat[M_KN], mat[M_CN], mat[M_KS], mat[M_CS])
 
 

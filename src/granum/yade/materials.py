@@ -48,13 +48,11 @@ def _converter(p: registry.Param):
     if isinstance(p.default, bool):
         return lambda o, v: bool(v)
     if isinstance(p.default, float):
-        positive = p.name in ("density",)
         conv = to_float(p.name)
 
         def check(owner, value):
             x = conv(owner, value)
-            if positive and not x > 0:
-                raise ValueError(f"{type(owner).__name__}.{p.name} must be positive, got {x!r}")
+            p.check(type(owner).__name__, x)
             return x
 
         return check

@@ -14,6 +14,7 @@ import warnings
 import numpy as np
 
 from granum._jit import call
+from granum.core.attrs import as_flag, as_integer, as_number
 from granum.core.bodies import DOF_ALL, ShapeKind
 from granum.core.contacts import (
     C_CONTACTS,
@@ -73,8 +74,25 @@ def _material(material):
     raise TypeError(f"material must be a Material, a material id, a label or a callable, got {material!r}")
 
 
-def _body(shape, center, material, fixed, dynamic, mask, orientation=None):
-    b = Body(shape=shape, material=_material(material), mask=mask)
+def _flags(factory: str, **flags) -> dict:
+    """The bool arguments ``flags`` of body factory ``factory`` as bools (None stays None: not given);
+    TypeError naming the argument for anything else, such as ``fixed='no'``."""
+    return {k: v if v is None else as_flag(v, f"{factory}: {k}") for k, v in flags.items()}
+
+
+def _vec3(value, what: str) -> np.ndarray:
+    """``value`` as a 3-vector [m]; the TypeError/ValueError of a wrong one names ``what`` ("sphere: center")."""
+    try:
+        return as_vec3(value)
+    except (TypeError, ValueError) as e:
+        raise type(e)(f"{what}: {e}") from None
+
+
+def _body(factory, shape, center, material, fixed, dynamic, mask, orientation=None):
+    """The body of a factory: ``fixed`` (or ``dynamic=False``) blocks its six DOFs; ``mask`` is an integer."""
+    fixed, dynamic = _flags(factory, fixed=fixed, dynamic=dynamic).values()
+    center = _vec3(center, f"{factory}: center")
+    b = Body(shape=shape, material=_material(material), mask=as_integer(mask, f"{factory}: mask"))
     st = b.state
     st.pos = center
     st.refPos = center
@@ -96,8 +114,10 @@ def sphere(center, radius, dynamic=None, fixed=False, wire=False, color=None, hi
     None picks a random colour; ``material`` is a Material, an id or a label in
     O.materials, a callable returning a Material, or -1 for the last defined one.
     """
-    shape = Sphere(radius=radius, color=randomColor() if color is None else color, wire=wire, highlight=highlight)
-    b = _body(shape, center, material, fixed, dynamic, mask)
+    wire, highlight = _flags("sphere", wire=wire, highlight=highlight).values()
+    shape = Sphere(radius=as_number(radius, "sphere: radius"), color=randomColor() if color is None else color,
+                   wire=wire, highlight=highlight)
+    b = _body("sphere", shape, center, material, fixed, dynamic, mask)
     r = shape.radius
     m = b.material.density * 4.0 / 3.0 * math.pi * r ** 3
     b.state.mass = m
@@ -108,16 +128,17 @@ def sphere(center, radius, dynamic=None, fixed=False, wire=False, color=None, hi
 def facet(vertices, dynamic=None, fixed=True, wire=True, color=None, highlight=False, noBound=False,
           material=-1, mask=1, chain=-1):
     """A triangular facet; the body sits at the centre of the inscribed circle (massless, fixed)."""
-    v = np.array([as_vec3(x) for x in vertices]) if len(vertices) == 3 else None
+    v = np.array([_vec3(x, "facet: vertex") for x in vertices]) if len(vertices) == 3 else None
     if v is None:
         raise ValueError("facet: give exactly three vertices")
     edges = np.array([np.linalg.norm(v[1] - v[2]), np.linalg.norm(v[2] - v[0]), np.linalg.norm(v[0] - v[1])])
     if not edges.sum() > 0:
         raise ValueError("facet: the three vertices coincide")
     center = (edges[:, None] * v).sum(axis=0) / edges.sum()
+    wire, highlight = _flags("facet", wire=wire, highlight=highlight).values()
     shape = Facet(vertices=list(v - center), color=randomColor() if color is None else color, wire=wire,
                   highlight=highlight)
-    return _body(shape, center, material, fixed, dynamic, mask)
+    return _body("facet", shape, center, material, fixed, dynamic, mask)
 
 
 def wall(position, axis, sense=0, color=None, material=-1, mask=1):
@@ -128,17 +149,18 @@ def wall(position, axis, sense=0, color=None, material=-1, mask=1):
         center = np.zeros(3)
         center[axis] = float(position)
     else:
-        center = as_vec3(position)
+        center = _vec3(position, "wall: position")
     shape = Wall(axis=axis, sense=sense, color=randomColor() if color is None else color)
-    return _body(shape, center, material, True, None, mask)
+    return _body("wall", shape, center, material, True, None, mask)
 
 
 def box(center, extents, orientation=None, dynamic=None, fixed=False, wire=False, color=None, highlight=False,
         material=-1, mask=1):
     """A box with half-sizes ``extents``: mass 8 rho e0 e1 e2, inertia m/3 (e1^2+e2^2, ...)."""
+    wire, highlight = _flags("box", wire=wire, highlight=highlight).values()
     shape = Box(extents=extents, color=randomColor() if color is None else color, wire=wire, highlight=highlight)
     ori = Quaternion(1, 0, 0, 0) if orientation is None else Quaternion(*_wxyz(orientation))
-    b = _body(shape, center, material, fixed, dynamic, mask, ori)
+    b = _body("box", shape, center, material, fixed, dynamic, mask, ori)
     e = np.asarray(shape.extents._a)
     m = b.material.density * 8.0 * e.prod()
     b.state.mass = m
