@@ -7,7 +7,9 @@ Options follow ``yade-batch`` where it has them: ``-j/--jobs`` (cores for all jo
 ``--job-threads`` (threads per job, default 1; the table's ``!THREADS`` column overrides it),
 ``--log`` (``$`` script, ``%`` line number, ``@`` description; default ``$.@.log``),
 ``-l/--lines`` (``2,3-5``), ``--dry-run``; and, granum's own, ``--scheduler ADDRESS`` (an
-existing Dask cluster), ``--resume`` (skip jobs already done) and ``--dashboard ADDRESS``.
+existing Dask cluster), ``--resume`` (skip jobs already done), ``--dashboard PORT`` and
+``--listen ADDRESS`` (the interface of the local cluster's ports: loopback unless widened
+deliberately, see :mod:`granum.batch.runner`).
 """
 
 from __future__ import annotations
@@ -16,7 +18,7 @@ import argparse
 import os
 import sys
 
-from granum.batch.runner import Job, log_name, run_batch
+from granum.batch.runner import DASHBOARD_PORT, LOOPBACK, Job, dashboard_port, listen_address, log_name, run_batch
 from granum.batch.table import TableError, lines_select, table_read
 
 __all__ = ["Job", "jobs_make", "main"]
@@ -38,8 +40,14 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("-l", "--lines", default=None, help="table lines to run, e.g. 2,3-5,8 (default: all)")
     p.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="address of a running Dask scheduler (default: a local cluster)")
-    p.add_argument("--dashboard", default=":8787", metavar="ADDRESS",
-                   help="address of the local cluster's dashboard ('' for none; default :8787)")
+    p.add_argument("--dashboard", default=str(DASHBOARD_PORT), metavar="PORT",
+                   help=f"port of the local cluster's Dask dashboard ('' for none, 0 for any free port; "
+                   f"default {DASHBOARD_PORT}); it listens on the --listen address")
+    p.add_argument("--listen", default=LOOPBACK, metavar="ADDRESS",
+                   help=f"IP address every port of the local cluster listens on (default {LOOPBACK}: "
+                   f"this machine only). The dashboard has no authentication: rather than widening it "
+                   f"(e.g. --listen 0.0.0.0, all interfaces), reach it from elsewhere with an SSH tunnel, "
+                   f"ssh -L {DASHBOARD_PORT}:127.0.0.1:{DASHBOARD_PORT} HOST")
     p.add_argument("--resume", action="store_true",
                    help="skip the jobs that <TABLE>.batch.json records as done with the same values")
     p.add_argument("--dry-run", action="store_true", help="list the jobs without running them")
@@ -91,6 +99,7 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     table, script = os.path.abspath(args.table), os.path.abspath(args.script)
     try:
+        listen, dashboard = listen_address(args.listen), dashboard_port(args.dashboard)
         jobs = jobs_make(table, args.lines, args.log, script, args.job_threads, cores, out)
     except (TableError, ValueError) as e:
         print(f"granum batch: {e}", file=sys.stderr)
@@ -105,6 +114,6 @@ def main(argv: list[str] | None = None) -> int:
               f"{args.script} > {j.log}", file=out)
     if args.dry_run:
         return 0
-    failed = run_batch(table, script, jobs, cores=cores, scheduler=args.scheduler, dashboard=args.dashboard,
-                       resume=args.resume, out=out)
+    failed = run_batch(table, script, jobs, cores=cores, scheduler=args.scheduler, dashboard=dashboard,
+                       listen=listen, resume=args.resume, out=out)
     return 1 if failed else 0

@@ -17,10 +17,17 @@ others go on. The state of every finished job is kept in ``<table>.batch.json`` 
 directory, rewritten atomically after each job, so ``--resume`` skips the jobs that already
 succeeded with the same script and the same table values. The Dask dashboard shows the jobs
 while they run.
+
+Every port the local cluster opens (the dashboard, the scheduler's and the worker's HTTP
+servers) listens on the loopback address 127.0.0.1 unless ``--listen`` names another: the
+dashboard has no authentication and shows the jobs, their paths and logs. Widening it is a
+deliberate choice (``--listen 0.0.0.0``); an SSH tunnel (``ssh -L 8787:127.0.0.1:8787 host``)
+shows a remote dashboard without exposing it.
 """
 
 from __future__ import annotations
 
+import ipaddress
 import json
 import os
 import socket
@@ -32,6 +39,11 @@ from dataclasses import dataclass
 
 from granum.batch.table import TableLine
 from granum.io.atomic import write_text
+
+#: Interface of every port of the local cluster unless ``--listen`` names another.
+LOOPBACK = "127.0.0.1"
+#: Port of the local cluster's dashboard unless ``--dashboard`` names another.
+DASHBOARD_PORT = 8787
 
 #: Process of each job running in this process (local cluster), terminated on Ctrl-C.
 _RUNNING: dict[str, subprocess.Popen] = {}
@@ -136,8 +148,40 @@ class State:
         write_text(self.path, json.dumps({"format": "granum-batch", "jobs": self.jobs}, indent=1) + "\n")
 
 
-def _cluster(scheduler: str | None, cores: int, dashboard: str | None, out):
-    """``(client, local cluster or None, whether jobs ask for core resources)``."""
+def listen_address(text: str) -> str:
+    """The ``--listen`` address: an IP address of this machine (``127.0.0.1``, ``::1``, or
+    ``0.0.0.0``/``::`` for all interfaces); ValueError for anything else, host names included."""
+    try:
+        return str(ipaddress.ip_address(text.strip("[]")))
+    except ValueError:
+        raise ValueError(f"--listen {text!r} is not an IP address (127.0.0.1, ::1, or 0.0.0.0 for all "
+                         f"interfaces)") from None
+
+
+def dashboard_port(text: str) -> int | None:
+    """The ``--dashboard`` port (``8787`` or ``:8787``; ``0``: any free port), None for ``''`` (no dashboard).
+
+    Raises ValueError for a host in it: the interface is ``--listen``'s, so that widening it is never
+    a side effect of choosing a port.
+    """
+    if not text:
+        return None
+    port = text[1:] if text.startswith(":") else text
+    if not port.isdigit() or int(port) > 65535:
+        raise ValueError(f"--dashboard {text!r} is not a port number (the interface is given by --listen)")
+    return int(port)
+
+
+def _url_host(address: str) -> str:
+    return f"[{address}]" if ":" in address else address
+
+
+def _cluster(scheduler: str | None, cores: int, dashboard: int | None, listen: str, out):
+    """``(client, local cluster or None, whether jobs ask for core resources)``.
+
+    The local cluster's scheduler and worker talk in-process; their HTTP servers (the dashboard's,
+    and the worker's that Dask always starts) listen on ``listen`` only.
+    """
     from distributed import Client, LocalCluster
 
     if scheduler:
@@ -147,13 +191,25 @@ def _cluster(scheduler: str | None, cores: int, dashboard: str | None, out):
         print(f"Using the Dask scheduler at {scheduler} ({len(workers)} workers"
               + (", core resources" if with_cores else ", one job per worker thread") + ")", file=out)
         return client, None, with_cores
+    # Dask listens on all interfaces for an address without a host (":8787") and for None (its
+    # scheduler serves HTTP even without a dashboard), so both servers get an explicit (host, port).
     cluster = LocalCluster(n_workers=1, threads_per_worker=cores, processes=False, resources={"cores": cores},
-                           dashboard_address=dashboard or None)
+                           dashboard_address=[(listen, dashboard or 0)], worker_dashboard_address=[(listen, 0)],
+                           scheduler_kwargs={"dashboard": dashboard is not None})
     return Client(cluster), cluster, True
 
 
+def _dashboard_link(client, listen: str) -> str:
+    """The dashboard's address as seen from this machine (Dask's own link names the external address)."""
+    if ipaddress.ip_address(listen).is_unspecified:
+        return client.dashboard_link
+    port = client.scheduler_info()["services"]["dashboard"]
+    return f"http://{_url_host(listen)}:{port}/status"
+
+
 def run_batch(table: str, script: str, jobs: list[Job], *, cores: int, scheduler: str | None = None,
-              dashboard: str | None = ":8787", resume: bool = False, out=sys.stdout) -> int:
+              dashboard: int | None = DASHBOARD_PORT, listen: str = LOOPBACK, resume: bool = False,
+              out=sys.stdout) -> int:
     """Run ``jobs`` of ``script`` with parameters from ``table``; returns the number of failed jobs.
 
     Args:
@@ -161,7 +217,8 @@ def run_batch(table: str, script: str, jobs: list[Job], *, cores: int, scheduler
         jobs: the jobs to run (see :func:`granum.batch.jobs_make`).
         cores: cores of the local cluster (ignored with ``scheduler``).
         scheduler: address of an existing Dask scheduler, or None for a local cluster.
-        dashboard: address of the local cluster's dashboard (``:8787``), or ``""``/None for none.
+        dashboard: port of the local cluster's dashboard (0: any free one), or None for none.
+        listen: IP address the local cluster's ports listen on (see :func:`listen_address`).
         resume: skip the jobs that ``<table>.batch.json`` records as succeeded.
         out: where reports go.
     """
@@ -178,16 +235,21 @@ def run_batch(table: str, script: str, jobs: list[Job], *, cores: int, scheduler
     if not todo:
         print("All jobs were done already.", file=out)
         return 0
-    client, cluster, with_cores = _cluster(scheduler, cores, dashboard, out)
+    client, cluster, with_cores = _cluster(scheduler, cores, dashboard, listen, out)
     failed = 0
     start = time.time()
     try:
-        if scheduler or dashboard:
+        if scheduler:
             print(f"Dask dashboard: {client.dashboard_link}", file=out)
+        elif dashboard is not None:
+            print(f"Dask dashboard: {_dashboard_link(client, listen)}", file=out)
+        if not scheduler and not ipaddress.ip_address(listen).is_loopback:
+            print(f"granum batch: warning: the local cluster listens on {listen}, reachable from other machines "
+                  f"without authentication", file=out)
         futures = {}
         for job in todo:
-            env = {"YADE_BATCH": f"{table}:{job.line.number}", "PARAM_TABLE": f"{table}:{job.line.number}",
-                   "OMP_NUM_THREADS": str(job.threads), **job.line.env}
+            env = {**job.line.env, "YADE_BATCH": f"{table}:{job.line.number}",
+                   "PARAM_TABLE": f"{table}:{job.line.number}", "OMP_NUM_THREADS": str(job.threads)}
             args = ["-j", str(job.threads), script]
             job_id = f"granum-batch-{os.getpid()}-{job.index}"
             fut = client.submit(job_run, job_id, args, env, os.getcwd(), os.path.abspath(job.log), key=job_id,
