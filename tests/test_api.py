@@ -170,7 +170,7 @@ def test_engines_assigned_inside_a_pyrunner_start_at_the_next_step(yade):
         del builtins._granum_seen
     # step 0: the old list runs to its end (-0); the appended runner (last in the list) starts at step 1
     assert seen == [0, -1, 1, -2, 2]
-    assert builtins.checker.dead
+    assert yade.O.namespace()["checker"].dead
 
 
 def test_pause_inside_a_pyrunner_finishes_the_step(yade):
@@ -199,13 +199,22 @@ def test_stop_at_iter_and_background_run(yade):
 
 
 def test_labels_become_global_names(yade):
-    """Labelled engines and functors are reachable by name, as YADE puts them in builtins."""
+    """Labelled engines and functors are names of the script's namespace (YADE makes them builtins; granum
+    never touches builtins); a name the namespace or the builtins give to something else keeps its meaning."""
+    ns = yade.O.namespace()
     yade.O.engines = [yade.NewtonIntegrator(label="newtonCustomLabel"),
                       yade.InteractionLoop([yade.Ig2_Sphere_Sphere_ScGeom(label="ig2ss")], [], [])]
-    assert builtins.newtonCustomLabel is yade.O.engines[0]
-    assert builtins.ig2ss is yade.O.engines[1].geomDispatcher.functors[0]
-    with pytest.raises(ValueError, match="identifier"):
-        yade.O.engines = [yade.NewtonIntegrator(label="virt0.5")]
+    assert ns["newtonCustomLabel"] is yade.O.engines[0]
+    assert ns["ig2ss"] is yade.O.engines[1].geomDispatcher.functors[0]
+    assert not hasattr(builtins, "newtonCustomLabel")
+    yade.O.engines = [yade.NewtonIntegrator(label="newtonCustomLabel")]   # a label moves to its new engine
+    assert ns["newtonCustomLabel"] is yade.O.engines[0]
+    yade.O.engines = [yade.PyRunner(label="print"), yade.PyRunner(label="plot"), yade.ForceResetter(label="O")]
+    assert builtins.print is print and "print" not in ns and ns["plot"] is yade.plot and ns["O"] is yade.O
+    assert yade.O.labeledEngine("plot") is yade.O.engines[1]
+    for bad in ("virt0.5", "lambda"):
+        with pytest.raises(ValueError, match="identifier"):
+            yade.O.engines = [yade.NewtonIntegrator(label=bad)]
 
 
 def test_utilities_match_yade(yade):

@@ -84,9 +84,8 @@ def test_combination_bookkeeping(yade):
         t + yade.ForceEngine()
     c.label = "kc"
     yade.O.engines = [c]
-    import builtins
-
-    assert builtins.kt is t and builtins.kr is r and builtins.kc is c
+    ns = yade.O.namespace()
+    assert ns["kt"] is t and ns["kr"] is r and ns["kc"] is c
 
 
 def test_bare_kinematic_engine_is_refused(yade):

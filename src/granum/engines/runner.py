@@ -31,6 +31,7 @@ from granum.core.contacts import (
     CONTACTS,
 )
 from granum.core.records import Record
+from granum.engines import interrupts
 from granum.engines.base import PeriodicEngine
 from granum.engines.status import status_message
 from granum.kernels import steploop
@@ -200,13 +201,15 @@ class Runner:
             virt = [e for e in plan.python if e.virtPeriod > 0 and e.nDone > 0 and not 0 <= e.nDo <= e.nDone]
             virt_last = np.array([e.virtLast for e in virt])
             virt_period = np.array([e.virtPeriod for e in virt])
-            S = scene.arrays()
-            C = CONTACTS.to_record(scene.contacts)
             timing, times = self.timing(plan)
             t0 = time.perf_counter()
             PP = self.params(plan)
-            done, why = plan.run_steps(m, -1, S, C, PP, float(stop_time), virt_last, virt_period, timing, times)
-            scene.contacts = CONTACTS.from_record(C)
+            with interrupts.shielded():   # the contacts go back to the scene whatever Ctrl-C does meanwhile
+                S = scene.arrays()
+                C = CONTACTS.to_record(scene.contacts)
+                done, why = plan.run_steps(m, -1, S, C, PP, float(stop_time), virt_last, virt_period, timing,
+                                           times)
+                scene.contacts = CONTACTS.from_record(C)
             self.sync_counters(plan, times)
             if done:
                 self._step_seconds = max((time.perf_counter() - t0) / done, 1e-9)
@@ -252,17 +255,19 @@ class Runner:
         kind, item = plan.items[k]
         if kind == "segment":
             timing, times = self.timing(plan)
-            S = scene.arrays()
-            C = CONTACTS.to_record(scene.contacts)
             PP = self.params(plan)
-            plan.run_steps(0, item, S, C, PP, np.inf, _NONE, _NONE, timing, times)
-            scene.contacts = CONTACTS.from_record(C)
+            with interrupts.shielded():
+                S = scene.arrays()
+                C = CONTACTS.to_record(scene.contacts)
+                plan.run_steps(0, item, S, C, PP, np.inf, _NONE, _NONE, timing, times)
+                scene.contacts = CONTACTS.from_record(C)
             self.sync_counters(plan, times)
             if scene.contacts.ctr[C_STATUS]:
                 self.raise_status()
         elif not item.dead and item.due(scene):
             t0 = time.perf_counter_ns()
-            item.run_python(self.omega)
+            with interrupts.user_code():
+                item.run_python(self.omega)
             if self.omega.timingEnabled:
                 item.execTime += time.perf_counter_ns() - t0
                 item.execCount += 1

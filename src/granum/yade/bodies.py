@@ -17,6 +17,7 @@ from granum.core.bodies import DOF_ALL, ShapeKind, dofs_from_string, dofs_to_str
 from granum.core.contacts import C_CONTACTS, FLAG_ALIVE, I_FLAGS, I_ID1, I_ID2, end_contact
 from granum.core.scene import BodyStore, Scene
 from granum.mathtypes import Quaternion, Vector3, as_quat_wxyz, as_vec3
+from granum.yade._pausing import pauses_the_run
 
 
 class _Nursery(BodyStore):
@@ -632,6 +633,7 @@ class BodyContainer:
             if b is not None:
                 yield b
 
+    @pauses_the_run
     def append(self, b):
         """Add a body (return its id) or a list of bodies (return the list of ids)."""
         if isinstance(b, list | tuple):
@@ -663,6 +665,7 @@ class BodyContainer:
         src.release(row)
         return i
 
+    @pauses_the_run
     def erase(self, i: int, eraseClumpMembers: bool = False) -> bool:
         """Remove body ``i`` and its interactions (its id is not reused)."""
         i = self._check(i)
@@ -678,6 +681,7 @@ class BodyContainer:
         scene.needs_collider()
         return True
 
+    @pauses_the_run
     def clump(self, ids, discretization: int = 0) -> int:
         """Make the listed bodies one rigid clump; return the id of the new clump body.
 
@@ -688,11 +692,13 @@ class BodyContainer:
 
         return make_clump(self._scene, [self._check(i) for i in ids], int(discretization))
 
+    @pauses_the_run
     def appendClumped(self, bodies, discretization: int = 0):
         """Append ``bodies`` and clump them: ``(clumpId, [member ids])``."""
         ids = self.append(list(bodies))
         return self.clump(ids, discretization), ids
 
+    @pauses_the_run
     def replaceByClumps(self, templates, amounts, discretization: int = 0) -> list:
         """Replace fractions ``amounts`` of the standalone spheres by clumps shaped as ``templates``
         (``utils.clumpTemplate``), each with the volume of the sphere it replaces;
@@ -701,10 +707,12 @@ class BodyContainer:
 
         return replace_by_clumps(self, templates, amounts, discretization)
 
+    @pauses_the_run
     def clear(self) -> None:
         """Remove all bodies and interactions."""
         self._scene.clear_bodies()
 
+    @pauses_the_run
     def replace(self, bodies) -> list:
         self.clear()
         return self.append(list(bodies))

@@ -28,6 +28,7 @@ from granum.core.contacts import (
 from granum.kernels.dispatch import functors
 from granum.mathtypes import Matrix3, Vector3, Vector3i
 from granum.physics import registry
+from granum.yade._pausing import pauses_the_run
 
 
 def find_pair(C, a: int, b: int) -> int:
@@ -295,6 +296,7 @@ class InteractionContainer:
         """Real and potential interactions of body ``id``."""
         return [i for i in self.all() if id in (i._id1, i._id2)]
 
+    @pauses_the_run
     def erase(self, id1: int, id2: int) -> bool:
         """End the real interaction between two bodies (it may form again if they still touch)."""
         a, b = self._ids((id1, id2))
@@ -305,6 +307,7 @@ class InteractionContainer:
         end_contact(C, c)
         return True
 
+    @pauses_the_run
     def clear(self) -> None:
         """Remove all interactions (the collider finds the potential ones again)."""
         for i in list(self):
@@ -312,5 +315,6 @@ class InteractionContainer:
         self._scene.contacts.ctr[C_PAIRS] = 0
         self._scene.needs_collider()
 
+    @pauses_the_run
     def eraseNonReal(self) -> None:
         self._scene.needs_collider()

@@ -12,6 +12,7 @@ from __future__ import annotations
 import atexit
 import builtins
 import contextlib
+import keyword
 import sys
 import threading
 import time
@@ -20,7 +21,9 @@ import numpy as np
 
 from granum.core.arrays import ENERGY_NAMES
 from granum.core.scene import Scene
+from granum.engines import interrupts
 from granum.engines.base import Engine
+from granum.engines.functors import Functor
 from granum.engines.runner import Runner
 from granum.io import checkpoint
 from granum.mathtypes import Vector3, as_vec3
@@ -163,7 +166,11 @@ class Omega:
         if getattr(self, "_frozen", False):
             return   # Omega() again: the same object, untouched
         self._snapshots: dict = {}
-        self._thread: threading.Thread | None = None
+        self._thread: threading.Thread | None = None   # the background run's thread (O.wait joins it)
+        #: the thread running steps now (a background run's, or the caller's for O.run(n, True) and O.step)
+        self._run_thread: threading.Thread | None = None
+        self._idle = threading.Event()   # set while no step runs
+        self._idle.set()
         self._error: BaseException | None = None
         self._stop = False
         self._running = False
@@ -401,13 +408,24 @@ class Omega:
         self._bind_labels(engines)
 
     def _bind_labels(self, engines) -> None:
-        """Make labelled engines and functors global names, as YADE does."""
+        """Make labelled engines and functors names of the script's namespace (:meth:`namespace`), where
+        YADE makes them builtins; granum never touches Python's builtins, so a label can change no other
+        module (a label ``print`` does not replace Python's ``print``). As a script's own names shadow
+        YADE's builtins, a name the namespace or Python's builtins already give to something that is no
+        labelled object (``plot``, ``wall``, ``exit``...) keeps its meaning; the engine stays reachable as
+        ``O.labeledEngine(label)``."""
+        ns = None
         for e in engines:
             for obj in [e] + e.functors():
-                if obj.label:
-                    if not obj.label.isidentifier():
-                        raise ValueError(f"label {obj.label!r} is not a valid Python identifier")
-                    setattr(builtins, obj.label, obj)
+                label = obj.label
+                if not label:
+                    continue
+                if not label.isidentifier() or keyword.iskeyword(label):
+                    raise ValueError(f"label {label!r} is not a valid Python identifier")
+                ns = self.namespace() if ns is None else ns
+                current = ns.get(label, getattr(builtins, label, None))
+                if current is None or isinstance(current, Engine | Functor):
+                    ns[label] = obj
 
     def labeledEngine(self, label: str):
         """The engine (or functor of an engine) of O.engines labelled ``label``."""
@@ -458,20 +476,22 @@ class Omega:
         first = scene.iter
         started = time.monotonic()
         try:
-            while not self._stop:
-                target = self.stopAtIter
-                limit = target - scene.iter if target > scene.iter else 1 << 62
-                stop_time = self.stopAtTime if self.stopAtTime > scene.time else np.inf
-                self._runner.advance(limit, stop_time)
-                if progress is not None:
-                    progress.update(scene.iter - first)
-                if scene.iter == target or (stop_time < np.inf and scene.time >= stop_time):
-                    break
+            with interrupts.deferred():
+                while not self._stop:
+                    target = self.stopAtIter
+                    limit = target - scene.iter if target > scene.iter else 1 << 62
+                    stop_time = self.stopAtTime if self.stopAtTime > scene.time else np.inf
+                    self._runner.advance(limit, stop_time)
+                    interrupts.raise_pending()   # Ctrl-C lands here, at a step boundary
+                    if progress is not None:
+                        progress.update(scene.iter - first)
+                    if scene.iter == target or (stop_time < np.inf and scene.time >= stop_time):
+                        break
         finally:
             elapsed = time.monotonic() - started
             self._speed = (scene.iter - first) / elapsed if elapsed > 0 else 0.0
-            self._running = False
             self._stop = False
+            self._end_run()
             scene.forget_record()
             if progress is not None:
                 progress.finish(scene.iter - first)
@@ -491,6 +511,8 @@ class Omega:
         A run of ``nSteps`` with ``wait`` that lasts more than a second shows a progress bar when
         standard error is a terminal (see :mod:`granum.yade.progress`).
         """
+        if isinstance(nSteps, bool) or not isinstance(nSteps, int | float) or not float(nSteps).is_integer():
+            raise TypeError(f"O.run: nSteps must be a whole number of steps (<= 0: until paused), got {nSteps!r}")
         if self._running:
             return
         self._runner.finish_step()   # a step begun sub-step by sub-step ends first (it is not counted)
@@ -498,12 +520,23 @@ class Omega:
             self.stopAtIter = self.iter + int(nSteps)
         self._error = None
         self._stop = False
-        self._running = True
         if wait:
+            self._begin_run(threading.current_thread())
             self._loop(Progress(nSteps) if nSteps > 0 and progress_wanted(sys.stderr) else None)
             return
         self._thread = threading.Thread(target=self._background, name="granum-run", daemon=True)
+        self._begin_run(self._thread)
         self._thread.start()
+
+    def _begin_run(self, thread: threading.Thread) -> None:
+        self._run_thread = thread
+        self._idle.clear()
+        self._running = True
+
+    def _end_run(self) -> None:
+        self._running = False
+        self._run_thread = None
+        self._idle.set()
 
     def pause(self) -> None:
         """Stop after the current step (also from inside an engine)."""
@@ -522,19 +555,24 @@ class Omega:
     def step(self) -> None:
         """Run exactly one step in the calling thread (one sub-step with :attr:`subStepping`; the rest of a
         step begun sub-step by sub-step once it is turned off)."""
-        if self._running and self._thread is not threading.current_thread():
+        if self._running and self._run_thread is not threading.current_thread():
             raise RuntimeError("O.step(): the simulation is running; O.pause() and O.wait() first")
-        self._running = True
+        nested = self._running   # O.step() from an engine of the run itself
+        if not nested:
+            self._begin_run(threading.current_thread())
         try:
-            if self._sub_stepping:
-                self._runner.substep()
-            elif self._runner.sub_step >= 0:
-                self._runner.finish_step()
-            else:
-                self._runner.advance(1)
+            with interrupts.deferred():
+                if self._sub_stepping:
+                    self._runner.substep()
+                elif self._runner.sub_step >= 0:
+                    self._runner.finish_step()
+                else:
+                    self._runner.advance(1)
+                interrupts.raise_pending()
         finally:
-            self._running = False
-            self._scene.forget_record()
+            if not nested:
+                self._end_run()
+                self._scene.forget_record()
 
     # ---- scenes --------------------------------------------------------------------------
     def reset(self) -> None:
@@ -550,9 +588,10 @@ class Omega:
         self._new_scene(*self._scenes[0])
 
     def _stop_and_wait(self) -> None:
-        if self._running and self._thread is not threading.current_thread():
+        """Stop a run going on in another thread at its next step boundary, and wait until it has."""
+        if self._running and self._run_thread is not threading.current_thread():
             self.pause()
-            self._thread.join()
+            self._idle.wait()
 
     def save(self, file, quiet: bool = False) -> None:
         """Save the whole scene to ``file`` (format by extension: ``.yade``, ``.xml``, ``.h5``, optionally
@@ -566,7 +605,7 @@ class Omega:
     def _paused(self):
         """Pause a run going on in another thread for the block (saving needs a still scene), then resume it
         unless it ended meanwhile (reached stopAtIter/stopAtTime or failed)."""
-        if not self._running or self._thread is threading.current_thread():
+        if not self._running or self._run_thread is threading.current_thread():
             yield
             return
         s = self._scene

@@ -32,6 +32,7 @@ from granum.core.contacts import (
     I_ID1,
     I_ID2,
 )
+from granum.engines import interrupts
 from granum.mathtypes import Matrix3, Quaternion, Vector3, as_quat_wxyz, as_vec3
 from granum.yade.bodies import Body, Box, Facet, Sphere, Wall
 from granum.yade.cell import det3
@@ -450,10 +451,12 @@ def createInteraction(id1, id2):
             raise IndexError(f"createInteraction: no body with id {i}")
     if Interaction(s, id1, id2).isReal:
         raise RuntimeError(f"createInteraction: the interaction ({id1}, {id2}) is real already")
-    S = s.arrays()
-    C = CONTACTS.to_record(s.contacts)
-    call(create_contact_now, S, C, int(id1), int(id2), loops[0].params(s, O.engines))
-    s.contacts = CONTACTS.from_record(C)
+    P = loops[0].params(s, O.engines)
+    with interrupts.shielded():   # the contacts go back to the scene whatever Ctrl-C does meanwhile
+        S = s.arrays()
+        C = CONTACTS.to_record(s.contacts)
+        call(create_contact_now, S, C, int(id1), int(id2), P)
+        s.contacts = CONTACTS.from_record(C)
     if s.contacts.ctr[C_STATUS]:
         O._runner.raise_status()
     return Interaction(s, id1, id2)

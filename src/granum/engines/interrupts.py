@@ -1,0 +1,95 @@
+"""Ctrl-C during a run lands at a step boundary, with every array consistent.
+
+Python raises ``KeyboardInterrupt`` at the next bytecode after the signal, which may be between a compiled
+chunk's return and the moment the runner takes the contact arrays back (the counters would then outrun
+the arrays: a later run crashes, a save is rejected on load). While a run goes on in the main thread,
+:func:`deferred` replaces the SIGINT handler by one that only records the signal; the run raises
+``KeyboardInterrupt`` itself at the next step boundary (:func:`raise_pending`). Inside the Python code of
+engines (a PyRunner's command, :func:`user_code`) a second Ctrl-C interrupts at once, so that a command
+that never returns can still be stopped (its step is then left half done). Outside a run,
+:func:`shielded` defers Ctrl-C over one exchange of arrays with compiled code. Threads other than the
+main one never receive SIGINT, so the functions do nothing there.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import signal
+import threading
+
+
+class _Guard:
+    """The SIGINT handler of a run: records the first Ctrl-C; a second one inside user code raises."""
+
+    def __init__(self):
+        self.pending = False
+        self.in_user_code = False
+
+    def __call__(self, signum, frame):
+        if self.pending and self.in_user_code:
+            raise KeyboardInterrupt
+        self.pending = True
+
+
+_active: _Guard | None = None
+
+
+def _installable() -> bool:
+    return threading.current_thread() is threading.main_thread() and _active is None
+
+
+@contextlib.contextmanager
+def _handler(guard: _Guard):
+    global _active
+    previous = signal.getsignal(signal.SIGINT)
+    signal.signal(signal.SIGINT, guard)
+    _active = guard
+    try:
+        yield guard
+    finally:
+        _active = None
+        # a handler installed from C reads as None and cannot be put back from Python: Python's default then
+        signal.signal(signal.SIGINT, previous if previous is not None else signal.default_int_handler)
+
+
+@contextlib.contextmanager
+def deferred():
+    """Defer Ctrl-C for a run in the main thread (see the module docstring); elsewhere, nothing."""
+    if not _installable():
+        yield
+        return
+    with _handler(_Guard()):
+        yield
+
+
+def raise_pending() -> None:
+    """At a step boundary: raise the KeyboardInterrupt that Ctrl-C asked for during the run, if any."""
+    if _active is not None and _active.pending:
+        _active.pending = False
+        raise KeyboardInterrupt
+
+
+@contextlib.contextmanager
+def user_code():
+    """The Python code of an engine: during a deferred run a second Ctrl-C interrupts it at once."""
+    guard = _active
+    if guard is None:
+        yield
+        return
+    guard.in_user_code = True
+    try:
+        yield
+    finally:
+        guard.in_user_code = False
+
+
+@contextlib.contextmanager
+def shielded():
+    """Defer Ctrl-C over one exchange of arrays with compiled code outside a run; raise it afterwards."""
+    if not _installable():
+        yield
+        return
+    with _handler(_Guard()) as guard:
+        yield
+    if guard.pending:
+        raise KeyboardInterrupt
