@@ -40,3 +40,11 @@ def frict_engines(y, gravity=(0, 0, 0), damping=0.0, bounds=None, geoms=None):
             [y.Law2_ScGeom_FrictPhys_CundallStrack()]),
         y.NewtonIntegrator(gravity=gravity, damping=damping),
     ]
+
+
+def viscel_engines(y):
+    """Spheres with the visco-elastic law (ViscElMat): collider, InteractionLoop, Newton without gravity."""
+    return [y.ForceResetter(), y.InsertionSortCollider([y.Bo1_Sphere_Aabb()]),
+            y.InteractionLoop([y.Ig2_Sphere_Sphere_ScGeom()], [y.Ip2_ViscElMat_ViscElMat_ViscElPhys()],
+                              [y.Law2_ScGeom_ViscElPhys_Basic()]),
+            y.NewtonIntegrator()]

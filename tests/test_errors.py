@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from conftest import frict_engines
+from conftest import frict_engines, viscel_engines
 
 
 def test_missing_body_id_is_an_index_error(yade):
@@ -130,11 +130,7 @@ def test_missing_physics_functor_names_both_materials(yade):
     m1 = yade.O.materials.append(yade.ViscElMat(tc=1e-3, en=0.5, et=0.5))
     m2 = yade.O.materials.append(yade.FrictMat())
     yade.O.bodies.append([yade.sphere((0, 0, 0), 1, material=m1), yade.sphere((0, 0, 1.99), 1, material=m2)])
-    yade.O.engines = [yade.ForceResetter(), yade.InsertionSortCollider([yade.Bo1_Sphere_Aabb()]),
-                      yade.InteractionLoop([yade.Ig2_Sphere_Sphere_ScGeom()],
-                                           [yade.Ip2_ViscElMat_ViscElMat_ViscElPhys()],
-                                           [yade.Law2_ScGeom_ViscElPhys_Basic()]),
-                      yade.NewtonIntegrator()]
+    yade.O.engines = viscel_engines(yade)
     yade.O.dt = 1e-6
     with pytest.raises(yade.SimulationError, match="ViscElMat\\+FrictMat"):
         yade.O.step()

@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 import pytest
-from conftest import frict_engines
+from conftest import frict_engines, viscel_engines
 
 from granum.core import contacts
 from granum.core.contacts import C_ERR_A, C_ERR_B, C_STATUS
@@ -92,11 +92,7 @@ def test_zero_tangential_restitution_means_no_shear_spring(yade):
     cn 2903448.1204048023)."""
     m = yade.O.materials.append(yade.ViscElMat(tc=1e-3, en=0.5, et=0.0, density=1000, frictionAngle=0.5))
     yade.O.bodies.append([yade.sphere((0, 0, 0), 1, material=m), yade.sphere((0, 0, 1.9), 1, material=m)])
-    yade.O.engines = [yade.ForceResetter(), yade.InsertionSortCollider([yade.Bo1_Sphere_Aabb()]),
-                      yade.InteractionLoop([yade.Ig2_Sphere_Sphere_ScGeom()],
-                                           [yade.Ip2_ViscElMat_ViscElMat_ViscElPhys()],
-                                           [yade.Law2_ScGeom_ViscElPhys_Basic()]),
-                      yade.NewtonIntegrator()]
+    yade.O.engines = viscel_engines(yade)
     yade.O.dt = 1e-6
     yade.O.step()
     phys = yade.O.interactions[0, 1].phys
@@ -216,11 +212,7 @@ def test_non_finite_stiffness_is_named_not_the_time_step(yade):
     contact of NaN stiffness: the message names the stiffness and the materials, not O.dt."""
     m = yade.O.materials.append(yade.ViscElMat(en=0.5, et=0.0, young=1e7, density=1000))
     yade.O.bodies.append([yade.sphere((0, 0, 0), 1, material=m), yade.sphere((0, 0, 1.9), 1, material=m)])
-    yade.O.engines = [yade.ForceResetter(), yade.InsertionSortCollider([yade.Bo1_Sphere_Aabb()]),
-                      yade.InteractionLoop([yade.Ig2_Sphere_Sphere_ScGeom()],
-                                           [yade.Ip2_ViscElMat_ViscElMat_ViscElPhys()],
-                                           [yade.Law2_ScGeom_ViscElPhys_Basic()]),
-                      yade.NewtonIntegrator()]
+    yade.O.engines = viscel_engines(yade)
     yade.O.dt = 1e-6
     text = _run_to_failure(yade, r"non-finite stiffness \(kn=nan.*ViscElMat, ViscElMat")
     assert "O.dt" not in text
