@@ -39,6 +39,7 @@ from granum.core.contacts import (
 from granum.physics import registry
 from granum.physics.registry import Functor, Param
 from granum.physics.scgeom import contact_shift
+from granum.physics.sphere import sphere_pair
 from granum.physics.vec import (
     add,
     cross,
@@ -197,11 +198,7 @@ def geom_sphere_sphere_l3(c, id1, id2, shift, S, C, prm):
     A potential pair becomes real when |x2 - x1| <= |f_d| (r1 + r2), f_d being ``distFactor`` (prm[1]);
     detection (``c`` < 0) returns the separation |x2 - x1| - |f_d| (r1 + r2) [m].
     """
-    r1 = S.sphere_radius[S.shape_row[id1]]
-    r2 = S.sphere_radius[S.shape_row[id2]]
-    p1 = load3(S.pos, id1)
-    d = sub(add(load3(S.pos, id2), shift), p1)
-    dist = norm(d)
+    r1, r2, p1, d, dist = sphere_pair(id1, id2, shift, S)
     if c < 0:
         return dist - abs(prm[1]) * (r1 + r2)
     un = dist - (r1 + r2)

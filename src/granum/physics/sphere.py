@@ -26,6 +26,17 @@ def bound_sphere(i, S, prm, out):
 
 
 @jit
+def sphere_pair(id1, id2, shift, S):
+    """Radii r1, r2 [m], centre x1 [m], branch vector d = x2 + shift - x1 [m] and its length [m] of spheres
+    id1, id2 (body 2's periodic image shifted by ``shift``): what every sphere-sphere geometry starts from."""
+    r1 = S.sphere_radius[S.shape_row[id1]]
+    r2 = S.sphere_radius[S.shape_row[id2]]
+    p1 = load3(S.pos, id1)
+    d = sub(add(load3(S.pos, id2), shift), p1)
+    return r1, r2, p1, d, norm(d)
+
+
+@jit
 def geom_sphere_sphere(c, id1, id2, shift, S, C, prm):
     """Sphere-sphere ScGeom.
 
@@ -38,11 +49,7 @@ def geom_sphere_sphere(c, id1, id2, shift, S, C, prm):
     separation |x2 - x1| - f (r1 + r2) [m] (see the geometry protocol in
     :mod:`granum.physics.registry`); with ``c`` >= 0 the geometry is written and 0 returned.
     """
-    r1 = S.sphere_radius[S.shape_row[id1]]
-    r2 = S.sphere_radius[S.shape_row[id2]]
-    p1 = load3(S.pos, id1)
-    d = sub(add(load3(S.pos, id2), shift), p1)
-    dist = norm(d)
+    r1, r2, p1, d, dist = sphere_pair(id1, id2, shift, S)
     if c < 0:
         return dist - prm[0] * (r1 + r2)
     pen = r1 + r2 - dist
