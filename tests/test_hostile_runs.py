@@ -53,3 +53,10 @@ def test_a_loaded_label_never_replaces_a_python_builtin(yade, tmp_path):
     yade.O.load(tmp_path / "labels.yade")
     assert builtins.print is print and builtins.len is len
     assert yade.O.labeledEngine("print").command == "pass"
+
+
+def test_facet_options_granum_lacks_are_refused_not_ignored(yade):
+    for kw, name in (({"noBound": True}, "noBound"), ({"chain": 3}, "chain")):
+        with pytest.raises(NotImplementedError, match=name):
+            yade.utils.facet([(0, 0, 0), (1, 0, 0), (0, 1, 0)], **kw)
+    assert yade.utils.facet([(0, 0, 0), (1, 0, 0), (0, 1, 0)], noBound=False, chain=-1).shape is not None

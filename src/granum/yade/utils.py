@@ -128,7 +128,16 @@ def sphere(center, radius, dynamic=None, fixed=False, wire=False, color=None, hi
 
 def facet(vertices, dynamic=None, fixed=True, wire=True, color=None, highlight=False, noBound=False,
           material=-1, mask=1, chain=-1):
-    """A triangular facet; the body sits at the centre of the inscribed circle (massless, fixed)."""
+    """A triangular facet; the body sits at the centre of the inscribed circle (massless, fixed).
+
+    ``noBound=True`` (a facet the collider never sees) and ``chain`` (YADE's chained cylinders) are not
+    implemented yet and refused by name rather than ignored."""
+    if noBound is not False:
+        raise NotImplementedError(f"facet: noBound={noBound!r} (a facet without bound) is not implemented in granum "
+                                  f"yet (only the default False)")
+    if chain != -1:
+        raise NotImplementedError(f"facet: chain={chain!r} (chained cylinders) is not implemented in granum yet "
+                                  f"(only the default -1)")
     v = np.array([_vec3(x, "facet: vertex") for x in vertices]) if len(vertices) == 3 else None
     if v is None:
         raise ValueError("facet: give exactly three vertices")
