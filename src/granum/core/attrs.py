@@ -168,13 +168,19 @@ def to_bool(owner, value):
     return bool(value)
 
 
-def to_str(name: str):
+def instance_of(kind: type, noun: str, name: str):
+    """Converter accepting only ``kind`` instances; its TypeError names the attribute and ``noun``."""
+
     def convert(owner, value):
-        if not isinstance(value, str):
-            raise TypeError(f"{type(owner).__name__}.{name} must be a string, got {value!r}")
+        if not isinstance(value, kind):
+            raise TypeError(f"{type(owner).__name__}.{name} must be {noun}, got {value!r}")
         return value
 
     return convert
+
+
+def to_str(name: str):
+    return instance_of(str, "a string", name)
 
 
 def only_default(name: str, default):

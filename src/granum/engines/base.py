@@ -48,9 +48,13 @@ class Engine(Attributed):
         """Body of a Python engine."""
 
     def functors(self) -> list:
-        """Objects owned by this engine whose labels become global names too: its functors, or the engines
-        a CombinedKinematicEngine combines."""
+        """The functors this engine owns (a collider's Bo1, an InteractionLoop's Ig2/Ip2/Law2)."""
         return []
+
+    def labelled_parts(self) -> list:
+        """The objects this engine owns whose labels become names too (O.labeledEngine finds them): its
+        functors, or the engines a CombinedKinematicEngine combines."""
+        return self.functors()
 
     def in_place(self) -> list:
         """The engines a step runs in this engine's place, in order: itself unless dead (a ParallelEngine:

@@ -176,7 +176,7 @@ class CombinedKinematicEngine(PartialEngine):
     def params(self, scene, engines) -> tuple:
         return kinematic_params(self, [e for e in self.comb if not e.dead], scene)
 
-    def functors(self) -> list:
+    def labelled_parts(self) -> list:
         return list(self.comb)
 
     def __add__(self, other):

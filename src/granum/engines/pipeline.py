@@ -12,7 +12,7 @@ import functools
 
 import numpy as np
 
-from granum.core.attrs import Attr, only_default, to_bool, to_float, to_int
+from granum.core.attrs import Attr, instance_of, only_default, to_bool, to_float, to_int
 from granum.core.bodies import ShapeKind
 from granum.core.contacts import contact_width
 from granum.engines.base import GlobalEngine
@@ -104,17 +104,6 @@ def _no_callbacks(owner, value):
     return []
 
 
-def _dispatcher(kind: type):
-    """Converter of a dispatcher attribute: a ``kind`` instance."""
-
-    def convert(owner, value):
-        if not isinstance(value, kind):
-            raise TypeError(f"{type(owner).__name__}: expected a {kind.__name__}, got {value!r}")
-        return value
-
-    return convert
-
-
 class InsertionSortCollider(GlobalEngine):
     """Broad-phase collision detection keeping the potential interactions up to date.
 
@@ -145,7 +134,8 @@ class InsertionSortCollider(GlobalEngine):
         "keepListsShort": Attr(False, "Accepted for compatibility", to_bool),
         "smartInsertErase": Attr(False, "Accepted for compatibility", to_bool),
         "newton": Attr(None, "Accepted for compatibility"),
-        "boundDispatcher": Attr(None, "The bound functors", _dispatcher(BoundDispatcher)),
+        "boundDispatcher": Attr(None, "The bound functors",
+                                instance_of(BoundDispatcher, "a BoundDispatcher", "boundDispatcher")),
     }
 
     #: options of older YADE versions that YADE 2023 no longer has, refused by name (stale scripts use them)
@@ -186,9 +176,11 @@ class InteractionLoop(GlobalEngine):
 
     stage = "granum.kernels.interaction:interaction_stage"
     _attrs = {
-        "geomDispatcher": Attr(None, "The IGeom functors", _dispatcher(IGeomDispatcher)),
-        "physDispatcher": Attr(None, "The IPhys functors", _dispatcher(IPhysDispatcher)),
-        "lawDispatcher": Attr(None, "The law functors", _dispatcher(LawDispatcher)),
+        "geomDispatcher": Attr(None, "The IGeom functors",
+                               instance_of(IGeomDispatcher, "an IGeomDispatcher", "geomDispatcher")),
+        "physDispatcher": Attr(None, "The IPhys functors",
+                               instance_of(IPhysDispatcher, "an IPhysDispatcher", "physDispatcher")),
+        "lawDispatcher": Attr(None, "The law functors", instance_of(LawDispatcher, "a LawDispatcher", "lawDispatcher")),
         "callbacks": Attr([], "Interaction callbacks (not supported: must stay empty)", _no_callbacks),
         "loopOnSortedInteractions": Attr(False, "Accepted for compatibility (granum's order is always fixed)",
                                          to_bool),

@@ -416,7 +416,7 @@ class Omega:
         ``O.labeledEngine(label)``."""
         ns = None
         for e in engines:
-            for obj in [e] + e.functors():
+            for obj in [e] + e.labelled_parts():
                 label = obj.label
                 if not label:
                     continue
@@ -430,7 +430,7 @@ class Omega:
     def labeledEngine(self, label: str):
         """The engine (or functor of an engine) of O.engines labelled ``label``."""
         for e in self._scene.engines:
-            for obj in [e] + e.functors():
+            for obj in [e] + e.labelled_parts():
                 if obj.label == label:
                     return obj
         raise ValueError(f"No engine labeled {label!r}")
