@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 from conftest import frict_engines
 
-from granum.core.arrays import I_HOOK, S_DT
+from granum.core.arrays import S_DT, SI_HOOK
 from granum.core.contacts import C_CONTACTS, I_LAW
 from granum.io.checkpoint import CheckpointError
 from granum.io.checkpoint_formats import container_read, container_write, header_make, json_canonical
@@ -113,7 +113,7 @@ def test_an_out_of_range_functor_code_is_refused_before_any_kernel_is_built(yade
 
 @pytest.mark.parametrize(("edit", "words"), [
     (_set("scene/contacts/ctr", C_CONTACTS, 10 ** 6), ("interaction counters exceed their arrays",)),
-    (_set("scene/iscal", I_HOOK, 10 ** 6), ("engine hook index out of range",)),
+    (_set("scene/iscal", SI_HOOK, 10 ** 6), ("engine hook index out of range",)),
     (lambda meta, arrays: meta["scene"]["bodies"]["table"].__setitem__("count", 10 ** 6), ("rows in a capacity",)),
 ], ids=["contact counter", "engine hook", "body count"])
 def test_counters_beyond_their_arrays_are_refused(yade, saved, tmp_path, edit, words):

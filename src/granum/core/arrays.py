@@ -4,6 +4,10 @@ Kernels never see Python objects: the scene packs its tables into one record
 (:data:`SCENE`, see :mod:`granum.core.records`) before each run.
 Scalars that kernels update (time, step) live in small arrays so that compiled code
 can write them in place.
+
+Constants are named by the array they index: ``S_*`` slots of ``scal``, ``SI_*`` slots of
+``iscal``, ``E_*`` slots of ``energy``; the contact pool's columns are ``I_*`` (``con_i``) and
+``F_*`` (``con_f``), its counters ``C_*`` (:mod:`granum.core.contacts`).
 """
 
 from __future__ import annotations
@@ -20,13 +24,13 @@ S_MAX_DISP = 3     # largest displacement since the bounds were computed [m]
 NSCAL = 4
 
 # ---- integer scalars: iscal ------------------------------------------------------
-I_ITER = 0         # step counter
-I_TRACK_ENERGY = 1  # 1 when O.trackEnergy
-I_NBODIES = 2      # number of body ids in use (len(O.bodies))
-I_PERIODIC = 3     # 1 when the scene is periodic
-I_HOMO_DEFORM = 4  # YADE's Cell.homoDeform: 0 none, 1 velocity jumps, 2 also the convective term
-I_HOOK = 5         # set by a compiled engine that needs its Python hook run after this step (engine index + 1)
-NISCAL = 6
+SI_ITER = 0         # step counter
+SI_TRACK_ENERGY = 1  # 1 when O.trackEnergy
+SI_NBODIES = 2      # number of body ids in use (len(O.bodies))
+SI_PERIODIC = 3     # 1 when the scene is periodic
+SI_HOMO_DEFORM = 4  # YADE's Cell.homoDeform: 0 none, 1 velocity jumps, 2 also the convective term
+SI_HOOK = 5         # set by a compiled engine that needs its Python hook run after this step (engine index + 1)
+NSISCAL = 6
 
 # ---- energy slots: energy[E_*], energy_set[E_*] -------------------------------------
 ENERGY_NAMES = ("kinetic", "gravWork", "nonviscDamp", "elastPotential", "plastDissip")
@@ -49,7 +53,7 @@ def _scene_fields() -> list[tuple[str, str, int]]:
         ("cell_bound_hsize", "f8", 2),  # hSize when the collider last ran [m], (3, 3)
         ("clump_members", "i4", 1),  # member ids of all clumps (see the shape table clump_member_first/count), (M,)
         ("scal", "f8", 1),          # float scalars S_*, (NSCAL,)
-        ("iscal", "i8", 1),         # integer scalars I_*, (NISCAL,)
+        ("iscal", "i8", 1),         # integer scalars I_*, (NSISCAL,)
         ("energy", "f8", 1),        # energy terms E_* [J], (NENERGY,)
         ("energy_set", "u1", 1),    # 1 once a term has been computed, (NENERGY,)
     ]

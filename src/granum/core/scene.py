@@ -16,17 +16,17 @@ import numpy as np
 
 from granum.core import validate
 from granum.core.arrays import (
-    I_HOMO_DEFORM,
-    I_ITER,
-    I_NBODIES,
-    I_PERIODIC,
-    I_TRACK_ENERGY,
     NENERGY,
-    NISCAL,
     NSCAL,
+    NSISCAL,
     S_DT,
     S_TIME,
     SCENE,
+    SI_HOMO_DEFORM,
+    SI_ITER,
+    SI_NBODIES,
+    SI_PERIODIC,
+    SI_TRACK_ENERGY,
 )
 from granum.core.bodies import ShapeKind, new_body_table
 from granum.core.contacts import (
@@ -98,7 +98,7 @@ class Scene(BodyStore):
         super().__init__(capacity=64)
         self.contacts = new_contact_arrays(0)
         self.scal = np.zeros(NSCAL)
-        self.iscal = np.zeros(NISCAL, np.int64)
+        self.iscal = np.zeros(NSISCAL, np.int64)
         self.scal[S_DT] = 1e-8
         self.energy = np.zeros(NENERGY)
         self.energy_set = np.zeros(NENERGY, np.uint8)
@@ -108,7 +108,7 @@ class Scene(BodyStore):
         self.cell_trsf = np.eye(3)
         self.cell_ref_hsize = np.eye(3)
         self.cell_bound_hsize = np.eye(3)
-        self.iscal[I_HOMO_DEFORM] = 2
+        self.iscal[SI_HOMO_DEFORM] = 2
         self.engines: list = []
         self.tags: dict = default_tags()
         self.stop_at_iter = 0
@@ -140,27 +140,27 @@ class Scene(BodyStore):
 
     @property
     def iter(self) -> int:
-        return int(self.iscal[I_ITER])
+        return int(self.iscal[SI_ITER])
 
     @iter.setter
     def iter(self, value: int) -> None:
-        self.iscal[I_ITER] = int(value)
+        self.iscal[SI_ITER] = int(value)
 
     @property
     def track_energy(self) -> bool:
-        return bool(self.iscal[I_TRACK_ENERGY])
+        return bool(self.iscal[SI_TRACK_ENERGY])
 
     @track_energy.setter
     def track_energy(self, on: bool) -> None:
-        self.iscal[I_TRACK_ENERGY] = int(bool(on))
+        self.iscal[SI_TRACK_ENERGY] = int(bool(on))
 
     @property
     def periodic(self) -> bool:
-        return bool(self.iscal[I_PERIODIC])
+        return bool(self.iscal[SI_PERIODIC])
 
     @periodic.setter
     def periodic(self, on: bool) -> None:
-        self.iscal[I_PERIODIC] = int(bool(on))
+        self.iscal[SI_PERIODIC] = int(bool(on))
         if on:
             self.contacts = with_images(self.contacts)
         self.needs_collider()
@@ -236,7 +236,7 @@ class Scene(BodyStore):
         chunk; :meth:`forget_record` drops it at the end of a run, so that it keeps no replaced
         array alive."""
         b = self.bodies
-        self.iscal[I_NBODIES] = b.count
+        self.iscal[SI_NBODIES] = b.count
         self.contacts = resize_for_bodies(self.contacts, b.count)
         mat_kind, mat = self.material_arrays()
         # lazy columns the kernels follow without looking (clump members, aspherical bodies)

@@ -22,7 +22,7 @@ import numpy as np
 
 from granum._jit import call, entry, entry_points
 from granum.core import heap
-from granum.core.arrays import I_HOOK
+from granum.core.arrays import SI_HOOK
 from granum.core.contacts import (
     C_COLLIDER_RUNS,
     C_ERR_A,
@@ -157,7 +157,7 @@ class Runner:
 
     def params(self, plan: Plan) -> tuple:
         for k, e in enumerate(plan.compiled):
-            object.__setattr__(e, "_plan_index", k + 1)  # what a stage writes to I_HOOK to call back
+            object.__setattr__(e, "_plan_index", k + 1)  # what a stage writes to SI_HOOK to call back
         return tuple(e.params(self.scene, plan.engines) for e in plan.compiled)
 
     def check_scene(self) -> None:
@@ -301,9 +301,9 @@ class Runner:
 
     def run_hooks(self, plan: Plan) -> None:
         """Run the Python hook a compiled engine asked for during the last step."""
-        k = int(self.scene.iscal[I_HOOK])
+        k = int(self.scene.iscal[SI_HOOK])
         if k:
-            self.scene.iscal[I_HOOK] = 0
+            self.scene.iscal[SI_HOOK] = 0
             plan.compiled[k - 1].run_hook(self.omega)
 
     def raise_status(self):

@@ -58,7 +58,7 @@ import numpy as np
 
 from granum import mathtypes
 from granum.core import validate
-from granum.core.arrays import ENERGY_NAMES, I_HOMO_DEFORM, I_HOOK, S_DT
+from granum.core.arrays import ENERGY_NAMES, S_DT, SI_HOMO_DEFORM, SI_HOOK
 from granum.core.attrs import Attributed
 from granum.core.bodies import ShapeKind
 from granum.core.contacts import (
@@ -446,7 +446,7 @@ def scene_values_check(scene: Scene, source: str) -> None:
     """The loaded values must obey the rules the setters enforce (:mod:`granum.core.validate`): time
     step, cell, and the state and shape of every body in use. Call after :func:`scene_check`."""
     _obeys(validate.TIME_STEP, scene.scal[S_DT], "O.dt", source)
-    _obeys(validate.HOMO_DEFORM, scene.iscal[I_HOMO_DEFORM], "O.cell.homoDeform", source)
+    _obeys(validate.HOMO_DEFORM, scene.iscal[SI_HOMO_DEFORM], "O.cell.homoDeform", source)
     _obeys(validate.CELL_BASE, scene.cell_hsize, "O.cell.hSize", source)
     _obeys(validate.CELL_BASE, scene.cell_ref_hsize, "O.cell.refHSize", source)
     _obeys(validate.FINITE_MATRIX, scene.cell_velgrad, "O.cell.velGrad", source)
@@ -476,7 +476,7 @@ def scene_check(scene: Scene, source: str) -> None:
         _range(b.shape_row[:n][alive & (kind == k)], 0, t.count, f"{k.name.lower()} shape row", source)
     _range(b.material[:n][alive], -1, len(scene.materials), "body material", source)
     _range(b.clump_id[:n], -1, n, "clump id", source)
-    _range(scene.iscal[I_HOOK:I_HOOK + 1], 0, len(scene.engines) + 1, "engine hook index", source)
+    _range(scene.iscal[SI_HOOK:SI_HOOK + 1], 0, len(scene.engines) + 1, "engine hook index", source)
     members = scene.clump_members
     _range(members.id[: members.count], 0, n, "clump member id", source)
     clumps = scene.shapes[ShapeKind.CLUMP]

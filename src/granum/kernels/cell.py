@@ -11,7 +11,7 @@ previous gradient is recorded at the end of each step.
 from __future__ import annotations
 
 from granum._jit import jit
-from granum.core.arrays import I_ITER, I_PERIODIC, S_DT, S_TIME
+from granum.core.arrays import S_DT, S_TIME, SI_ITER, SI_PERIODIC
 from granum.kernels.copy import copy_rows
 
 
@@ -31,7 +31,7 @@ def deform(m, lg, dt):
 @jit
 def step_begin(S):
     """Deform the periodic cell by the velocity gradient of the previous step."""
-    if S.iscal[I_PERIODIC]:
+    if S.iscal[SI_PERIODIC]:
         dt = S.scal[S_DT]
         deform(S.cell_hsize, S.cell_prev_velgrad, dt)
         deform(S.cell_trsf, S.cell_prev_velgrad, dt)
@@ -42,4 +42,4 @@ def step_end(S):
     """Record the velocity gradient and advance the clock."""
     copy_rows(S.cell_prev_velgrad, S.cell_velgrad, 3)
     S.scal[S_TIME] += S.scal[S_DT]
-    S.iscal[I_ITER] += 1
+    S.iscal[SI_ITER] += 1

@@ -27,7 +27,7 @@ import numpy as np
 from numba.extending import overload
 
 from granum._jit import BLOCK, PARALLEL_THRESHOLD, jit, kernel, prange
-from granum.core.arrays import I_NBODIES, I_PERIODIC, S_VERLET
+from granum.core.arrays import S_VERLET, SI_NBODIES, SI_PERIODIC
 from granum.core.bodies import ShapeKind
 from granum.core.contacts import (
     C_COLLIDE,
@@ -479,8 +479,8 @@ def collider_stage(S, C, P):
     """Engine stage of InsertionSortCollider; P = (bound_code, bound_tab, verlet_dist, avoid_self_mask, cell),
     ``cell`` the static ``("cell", periodic)`` of the scene (see :func:`cell_pairs`)."""
     bound_code, bound_tab, verlet_dist, avoid_self, cell = P
-    nb = S.iscal[I_NBODIES]
-    periodic = S.iscal[I_PERIODIC] != 0
+    nb = S.iscal[SI_NBODIES]
+    periodic = S.iscal[SI_PERIODIC] != 0
     R = raw(S)  # loops over bodies read the scene through a raw view (see granum.core.records)
     if C.ctr[C_COLLIDE] == 0 and not any_body_moved(R, nb) and not (periodic and cell_moved(S, S.scal[S_VERLET])):
         return

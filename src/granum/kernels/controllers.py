@@ -25,7 +25,7 @@ import math
 import numpy as np
 
 from granum._jit import jit
-from granum.core.arrays import I_HOOK, I_ITER, I_NBODIES, S_DT
+from granum.core.arrays import S_DT, SI_HOOK, SI_ITER, SI_NBODIES
 from granum.core.bodies import DOF_ALL
 from granum.core.contacts import C_CONTACTS, F_FN, F_FS, F_KN, F_NORMAL, FLAG_ALIVE, I_CELL, I_FLAGS, I_ID1, I_ID2
 from granum.kernels.interaction import load3_row
@@ -75,7 +75,7 @@ def contact_stress(S, C, out):
     res = 0.0
     nfree = 0
     alive, blocked, clump_id, force = S.alive, S.blocked, S.clump_id, S.force
-    for i in range(S.iscal[I_NBODIES]):
+    for i in range(S.iscal[SI_NBODIES]):
         if alive[i] and blocked[i] != DOF_ALL and (clump_id[i] < 0 or clump_id[i] == i):
             res += math.sqrt(force[i, 0] ** 2 + force[i, 1] ** 2 + force[i, 2] ** 2)
             nfree += 1
@@ -92,7 +92,7 @@ def peri_triax_stage(S, C, P):
     """
     goal, mask, max_rate, max_unb, abs_tol, rel_tol, grow_damp, glob_update, dyn_cell, mass, hook_id, out = P
     dt = S.scal[S_DT]
-    if glob_update <= 1 or S.iscal[I_ITER] % glob_update == 0 or not out[O_UNBALANCED] == out[O_UNBALANCED]:
+    if glob_update <= 1 or S.iscal[SI_ITER] % glob_update == 0 or not out[O_UNBALANCED] == out[O_UNBALANCED]:
         vol = contact_stress(S, C, out)
     else:
         vol = det3(S.cell_hsize)
@@ -126,4 +126,4 @@ def peri_triax_stage(S, C, P):
         S.cell_velgrad[k, k] = rate
         out[O_RATE + k] = rate
     if done:
-        S.iscal[I_HOOK] = hook_id
+        S.iscal[SI_HOOK] = hook_id

@@ -7,7 +7,7 @@ Each writes only the rows of its own bodies, in parallel over blocks of bodies.
 from __future__ import annotations
 
 from granum._jit import BLOCK, PARALLEL_THRESHOLD, jit, kernel, prange
-from granum.core.arrays import E_GRAV_WORK, I_NBODIES, I_TRACK_ENERGY, S_DT
+from granum.core.arrays import E_GRAV_WORK, S_DT, SI_NBODIES, SI_TRACK_ENERGY
 from granum.core.records import raw
 from granum.kernels.schedule import block_queue, next_block, queue_workers
 from granum.physics.vec import load3, quat_from_rotvec, quat_rotate, scale, sub
@@ -42,7 +42,7 @@ reset, reset_par = kernel(_reset)
 @jit
 def reset_stage(S, C, P):
     """ForceResetter: forces and torques back to their permanent values."""
-    nb = S.iscal[I_NBODIES]
+    nb = S.iscal[SI_NBODIES]
     if nb < PARALLEL_THRESHOLD:  # through a raw view: no reference counting per body (granum.core.records)
         reset(raw(S), nb)
     else:
@@ -53,7 +53,7 @@ def reset_stage(S, C, P):
 def gravity_stage(S, C, P):
     """GravityEngine: F += m g on bodies whose mask matches; P = (gravity (3,), mask)."""
     gravity, mask = P
-    nb = S.iscal[I_NBODIES]
+    nb = S.iscal[SI_NBODIES]
     dt = S.scal[S_DT]
     # columns read once: a field read from the record counts a reference, and a store would reload it
     alive, body_mask, mass, vel, force = S.alive, S.mask, S.mass, S.vel, S.force
@@ -63,7 +63,7 @@ def gravity_stage(S, C, P):
             for k in range(3):
                 force[i, k] += mass[i] * gravity[k]
                 work -= mass[i] * gravity[k] * vel[i, k] * dt
-    if S.iscal[I_TRACK_ENERGY]:
+    if S.iscal[SI_TRACK_ENERGY]:
         S.energy[E_GRAV_WORK] += work
         S.energy_set[E_GRAV_WORK] = 1
 

@@ -26,10 +26,10 @@ from granum._jit import BLOCK, PARALLEL_THRESHOLD, PARALLEL_THRESHOLD_CONTACTS, 
 from granum.core.arrays import (
     E_ELAST_POT,
     E_PLAST_DISSIP,
-    I_ITER,
-    I_NBODIES,
-    I_PERIODIC,
-    I_TRACK_ENERGY,
+    SI_ITER,
+    SI_NBODIES,
+    SI_PERIODIC,
+    SI_TRACK_ENERGY,
 )
 from granum.core.contacts import (
     C_CONTACTS,
@@ -86,7 +86,7 @@ HIT_NO_FUNCTOR = 2   # pair_hit: a geometry functor exists for the shapes but is
 @jit
 def pair_shift(S, C, p):
     """Offset H k of the second body's periodic image for pair ``p`` (zero if aperiodic)."""
-    if S.iscal[I_PERIODIC] == 0:
+    if S.iscal[SI_PERIODIC] == 0:
         return (0.0, 0.0, 0.0)
     k = (float(C.pair_cell[p, 0]), float(C.pair_cell[p, 1]), float(C.pair_cell[p, 2]))
     return matvec(S.cell_hsize, k)
@@ -149,7 +149,7 @@ def detect_block(b, S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, bound
     motion, hits, pair_con, pair_ids, pair_gap, pair_hit = borrow((motion, hits, C.pair_con, C.pair_ids,
                                                                    C.pair_gap, C.pair_hit))
     geom_code, geom_swap, geom_tab, pair_ok = borrow((geom_code, geom_swap, geom_tab, pair_ok))
-    periodic = S.iscal[I_PERIODIC] != 0
+    periodic = S.iscal[SI_PERIODIC] != 0
     pair_cell = borrow(C.pair_cell)
     found = 0
     for p in range(b * BLOCK, min(C.ctr[C_PAIRS], (b + 1) * BLOCK)):
@@ -236,7 +236,7 @@ def motion_bound(S, spread):
     the box [lo, hi], so |d_a - d_b| <= |hi - lo|, and w_a + w_b <= 2 max w. Bodies that move together
     (a packing at rest, a rigidly falling cluster without walls) give a small bound. Infinite while a
     periodic cell has changed since the collider ran (the images then move with the cell)."""
-    if S.iscal[I_PERIODIC] != 0:
+    if S.iscal[SI_PERIODIC] != 0:
         for i in range(3):
             for j in range(3):
                 if S.cell_hsize[i, j] != S.cell_bound_hsize[i, j]:
@@ -335,7 +335,7 @@ def new_contact(S, C, a, b, p, geom_code, geom_swap, geom_type, phys_code, phys_
             d = sub(load3(S.pos, id1), load3(S.pos, id2))
             for k in range(3):
                 C.con_i[c, I_CELL + k] = round(hinv[k, 0] * d[0] + hinv[k, 1] * d[1] + hinv[k, 2] * d[2])
-    C.con_i[c, I_BORN] = S.iscal[I_ITER]
+    C.con_i[c, I_BORN] = S.iscal[SI_ITER]
     if p >= 0:
         C.pair_con[p] = c
         C.pair_gap[p] = math.inf  # never detected while its contact lives (see detect_block)
@@ -640,7 +640,7 @@ def interaction_stage(S, C, P):
     (geom_code, geom_swap, geom_tab, geom_type, phys_code, phys_swap, phys_tab, phys_type, law_code, law_tab, pair_ok,
      width) = P
     widen_contacts(C, width)
-    nb = S.iscal[I_NBODIES]
+    nb = S.iscal[SI_NBODIES]
     R = raw(S)  # hot loops read the records through raw views (see granum.core.records)
     V = raw(C)
     motion = np.empty((nb, 4))
@@ -676,5 +676,5 @@ def interaction_stage(S, C, P):
         gather(R, V, nb, ahead)
     else:
         gather_par(R, V, nb, ahead)
-    if S.iscal[I_TRACK_ENERGY]:
+    if S.iscal[SI_TRACK_ENERGY]:
         contact_energy(R, V)

@@ -29,11 +29,11 @@ from granum.core.arrays import (
     E_GRAV_WORK,
     E_KINETIC,
     E_NONVISC_DAMP,
-    I_HOMO_DEFORM,
-    I_NBODIES,
-    I_PERIODIC,
-    I_TRACK_ENERGY,
     S_DT,
+    SI_HOMO_DEFORM,
+    SI_NBODIES,
+    SI_PERIODIC,
+    SI_TRACK_ENERGY,
 )
 from granum.core.bodies import ShapeKind
 from granum.core.contacts import C_ERR_A, C_STATUS, STATUS_NONFINITE
@@ -153,9 +153,9 @@ def newton_block(b, S, nb, gravity, damping, damp_gravity, sums, bad):
     so that the loop does not reload them from the record after every store.
     """
     dt = S.scal[S_DT]
-    periodic = S.iscal[I_PERIODIC] != 0
-    homo = S.iscal[I_HOMO_DEFORM]
-    track = S.iscal[I_TRACK_ENERGY] != 0
+    periodic = S.iscal[SI_PERIODIC] != 0
+    homo = S.iscal[SI_HOMO_DEFORM]
+    track = S.iscal[SI_TRACK_ENERGY] != 0
     pos, vel, ori, ang_vel, force, torque = S.pos, S.vel, S.ori, S.ang_vel, S.force, S.torque
     mass, inertia, blocked_dofs, is_damped = S.mass, S.inertia, S.blocked, S.is_damped
     alive, clump_id, shape_kind, aspherical = S.alive, S.clump_id, S.shape_kind, S.aspherical
@@ -262,7 +262,7 @@ newton_blocks, newton_blocks_par = kernel(_newton_blocks)
 def newton_stage(S, C, P):
     """Engine stage of NewtonIntegrator; P = (gravity (3,) [m/s^2], damping [-], damp_gravity)."""
     gravity, damping, damp_gravity = P
-    nb = S.iscal[I_NBODIES]
+    nb = S.iscal[SI_NBODIES]
     nblocks = (nb + BLOCK - 1) // BLOCK
     sums = np.zeros((nblocks, 3))
     bad = np.full(nblocks, -1, np.int64)
@@ -275,7 +275,7 @@ def newton_stage(S, C, P):
             C.ctr[C_STATUS] = STATUS_NONFINITE
             C.ctr[C_ERR_A] = bad[b]
             break
-    if S.iscal[I_TRACK_ENERGY]:
+    if S.iscal[SI_TRACK_ENERGY]:
         total = np.zeros(3)
         for b in range(nblocks):   # fixed order: deterministic sums
             for k in range(3):

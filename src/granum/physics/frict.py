@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 
 from granum._jit import jit
-from granum.core.arrays import I_TRACK_ENERGY, S_DT
+from granum.core.arrays import S_DT, SI_TRACK_ENERGY
 from granum.core.contacts import (
     F_E_DISSIP,
     F_E_ELAST,
@@ -114,7 +114,7 @@ def law_cundall_strack(c, id1, id2, S, C, prm):
             return False
         for k in range(6):
             f[c, F_FN + k] = 0.0
-        if S.iscal[I_TRACK_ENERGY]:  # the energy columns exist only then (granum.core.contacts)
+        if S.iscal[SI_TRACK_ENERGY]:  # the energy columns exist only then (granum.core.contacts)
             f[c, F_E_ELAST] = 0.0
             f[c, F_E_DISSIP] = 0.0
         return True
@@ -137,7 +137,7 @@ def law_cundall_strack(c, id1, id2, S, C, prm):
     for k in range(3):
         f[c, F_FN + k] = fn[k]
         f[c, F_FS + k] = fs[k]
-    if S.iscal[I_TRACK_ENERGY]:
+    if S.iscal[SI_TRACK_ENERGY]:
         elast = 0.5 * dot(fn, fn) / kn if kn > 0.0 else 0.0
         if ks > 0.0:
             elast += 0.5 * norm(fs) ** 2 / ks

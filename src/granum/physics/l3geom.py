@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 
 from granum._jit import jit
-from granum.core.arrays import I_ITER, I_TRACK_ENERGY, S_DT
+from granum.core.arrays import S_DT, SI_ITER, SI_TRACK_ENERGY
 from granum.core.bodies import ShapeKind
 from granum.core.contacts import (
     F_E_DISSIP,
@@ -173,7 +173,7 @@ def l3geom_spheres_like(c, id1, id2, shift, S, C, prm, n, point, un, r1, r2):
     t1 = sub(prev1, add(cross(prev1, rot), cross(prev1, twist)))
     t2 = sub(prev2, add(cross(prev2, rot), cross(prev2, twist)))
     renorm = int(prm[2])
-    if renorm > 0 and S.iscal[I_ITER] % renorm == 0:
+    if renorm > 0 and S.iscal[SI_ITER] % renorm == 0:
         t1, t2 = orthonormal_tangents(n, t1)
     mid_q = quat_from_rows(n0, prev1, prev2)
     if not approx & APPROX_PREV_TRSF:
@@ -252,7 +252,7 @@ def law_l3geom_elperfpl(c, id1, id2, S, C, prm):
     normal_part = scale(normal, -dot(on_first, normal))
     store_row(f, c, F_FN, normal_part)
     store_row(f, c, F_FS, sub(scale(on_first, -1.0), normal_part))
-    if S.iscal[I_TRACK_ENERGY]:   # the energy columns exist only then (granum.core.contacts)
+    if S.iscal[SI_TRACK_ENERGY]:   # the energy columns exist only then (granum.core.contacts)
         elast = 0.5 * fn * fn / kn if kn > 0.0 else 0.0
         if ks > 0.0:
             elast += 0.5 * (ft1 * ft1 + ft2 * ft2) / ks

@@ -150,6 +150,14 @@ class Functor:
     doc: str = ""
     history: tuple[str, ...] = ()
 
+    def slot(self, name: str) -> int:
+        """Index of the parameter ``name`` in the functor's row ``prm`` (its place in ``params``): compiled
+        functions read ``prm[slot]`` through a module constant made with this, never a bare number."""
+        for k, p in enumerate(self.params):
+            if p.name == name:
+                return k
+        raise KeyError(f"{self.yade_name} has no parameter {name!r}")
+
 
 MATERIALS: dict[str, MaterialKind] = {}
 GEOM_TYPES: dict[str, TypeInfo] = {}

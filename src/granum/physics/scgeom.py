@@ -13,7 +13,7 @@ References:
 from __future__ import annotations
 
 from granum._jit import jit
-from granum.core.arrays import I_PERIODIC
+from granum.core.arrays import SI_PERIODIC
 from granum.core.contacts import (
     F_NORMAL,
     F_PEN,
@@ -89,7 +89,7 @@ def contact_shift(c, S, C):
     the image of body 2 sits at pos2 + H k and moves with the extra velocity L H k
     (H = ``cell.hSize``, L = ``cell.velGrad``). Zero in aperiodic scenes.
     """
-    if S.iscal[I_PERIODIC] == 0:
+    if S.iscal[SI_PERIODIC] == 0:
         return (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
     k = (float(C.con_i[c, I_CELL]), float(C.con_i[c, I_CELL + 1]), float(C.con_i[c, I_CELL + 2]))
     shift = matvec(S.cell_hsize, k)

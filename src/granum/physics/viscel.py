@@ -28,7 +28,7 @@ from __future__ import annotations
 import math
 
 from granum._jit import jit
-from granum.core.arrays import I_TRACK_ENERGY, S_DT
+from granum.core.arrays import S_DT, SI_TRACK_ENERGY
 from granum.core.contacts import (
     F_E_DISSIP,
     F_E_ELAST,
@@ -175,7 +175,7 @@ def law_viscel(c, id1, id2, S, C, prm):
             f[c, F_FN + k] = 0.0
         for k in range(3):
             f[c, F_SHEAR_EL + k] = 0.0
-        if S.iscal[I_TRACK_ENERGY]:  # the energy columns are written only then (granum.core.contacts)
+        if S.iscal[SI_TRACK_ENERGY]:  # the energy columns are written only then (granum.core.contacts)
             f[c, F_E_ELAST] = 0.0
             f[c, F_E_DISSIP] = 0.0
         return True
@@ -195,7 +195,7 @@ def law_viscel(c, id1, id2, S, C, prm):
         f[c, F_FN + k] = fn[k]
         f[c, F_FS + k] = total[k]
         f[c, F_SHEAR_EL + k] = fs[k]
-    if S.iscal[I_TRACK_ENERGY]:
+    if S.iscal[SI_TRACK_ENERGY]:
         f[c, F_E_ELAST] = 0.5 * f[c, F_KN] * pen * pen + (0.5 * dot(fs, fs) / f[c, F_KS] if f[c, F_KS] > 0 else 0.0)
         f[c, F_E_DISSIP] = 0.0
     return True

@@ -136,16 +136,16 @@ class Cell:
     @property
     def homoDeform(self) -> int:
         """0: bodies do not follow the cell; 1: velocity jumps when velGrad changes; 2: also convection."""
-        from granum.core.arrays import I_HOMO_DEFORM
+        from granum.core.arrays import SI_HOMO_DEFORM
 
-        return int(self._scene.iscal[I_HOMO_DEFORM])
+        return int(self._scene.iscal[SI_HOMO_DEFORM])
 
     @homoDeform.setter
     def homoDeform(self, value: int) -> None:
-        from granum.core.arrays import I_HOMO_DEFORM
+        from granum.core.arrays import SI_HOMO_DEFORM
 
         validate.HOMO_DEFORM.check(value, "Cell.homoDeform")
-        self._scene.iscal[I_HOMO_DEFORM] = value
+        self._scene.iscal[SI_HOMO_DEFORM] = value
 
     # ---- points ------------------------------------------------------------------------
     def wrap(self, pt) -> Vector3:
