@@ -25,16 +25,13 @@ class Functor(Attributed):
 
     def numeric_params(self) -> list[float]:
         """The functor's numeric parameters in registry order (booleans as 0/1)."""
-        out = []
+        compiled = self.spec.compiled_params()
         for p in self.spec.params:
             value = getattr(self, p.name)
-            if not p.supported or not isinstance(p.default, bool | int | float):
-                if value != p.default and value is not p.default:
-                    raise NotImplementedError(f"{type(self).__name__}.{p.name}={value!r} is not supported by granum "
-                                              f"yet (only the default {p.default!r})")
-                continue
-            out.append(float(value))
-        return out
+            if not p.supported and value != p.default and value is not p.default:
+                raise NotImplementedError(f"{type(self).__name__}.{p.name}={value!r} is not supported by granum "
+                                          f"yet (only the default {p.default!r})")
+        return [float(getattr(self, p.name)) for p in compiled]
 
 
 class BoundFunctor(Functor):

@@ -150,13 +150,19 @@ class Functor:
     doc: str = ""
     history: tuple[str, ...] = ()
 
+    def compiled_params(self) -> tuple[Param, ...]:
+        """The parameters compiled code receives in its row ``prm``, in this order: the supported ones
+        whose value is a number (booleans as 0/1). The others (MatchMakers, unsupported attributes) only
+        exist in Python."""
+        return tuple(p for p in self.params if p.supported and isinstance(p.default, bool | int | float))
+
     def slot(self, name: str) -> int:
-        """Index of the parameter ``name`` in the functor's row ``prm`` (its place in ``params``): compiled
-        functions read ``prm[slot]`` through a module constant made with this, never a bare number."""
-        for k, p in enumerate(self.params):
+        """Index of the parameter ``name`` in the functor's row ``prm``: compiled functions read
+        ``prm[slot]`` through a module constant made with this, never a bare number."""
+        for k, p in enumerate(self.compiled_params()):
             if p.name == name:
                 return k
-        raise KeyError(f"{self.yade_name} has no parameter {name!r}")
+        raise KeyError(f"{self.yade_name} has no compiled parameter {name!r} (numeric and supported)")
 
 
 MATERIALS: dict[str, MaterialKind] = {}
