@@ -39,6 +39,23 @@ E_KINETIC, E_GRAV_WORK, E_NONVISC_DAMP, E_ELAST_POT, E_PLAST_DISSIP = range(5)
 ENERGY_RESET = (True, False, False, True, False)
 NENERGY = len(ENERGY_NAMES)
 
+# ---- the material table: mat_kind (M,), mat (M, ncol) ---------------------------------
+#: Names of the material kinds in code order (``mat_kind`` holds the index) and of the columns of ``mat``.
+#: Core stores the table and physics says what is in it: each material kind the physics registry
+#: registers is declared here (:func:`declare_material`), and the scene fills the table from these.
+MATERIAL_KINDS: list[str] = []
+MATERIAL_COLUMNS: list[str] = []
+
+
+def declare_material(kind: str, columns) -> None:
+    """Give the material kind ``kind`` the next code (unless it has one) and the table the ``columns``
+    (names) it lacks, at the end."""
+    if kind not in MATERIAL_KINDS:
+        MATERIAL_KINDS.append(kind)
+    for c in columns:
+        if c not in MATERIAL_COLUMNS:
+            MATERIAL_COLUMNS.append(c)
+
 def _scene_fields() -> list[tuple[str, str, int]]:
     fields = [(c.name, c.dtype, 1 + len(c.tail)) for c in BODY_COLUMNS]
     for kind, cols in SHAPE_COLUMNS.items():

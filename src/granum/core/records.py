@@ -34,8 +34,8 @@ from numba.experimental import structref
 from numba.extending import infer_getattr, intrinsic, lower_getattr_generic, models, register_model
 from numba.np import numpy_support
 
+from granum._codegen import load_module
 from granum._jit import call
-from granum.kernels.codegen import load_module
 
 
 @structref.register

@@ -16,6 +16,8 @@ import numpy as np
 
 from granum.core import validate
 from granum.core.arrays import (
+    MATERIAL_COLUMNS,
+    MATERIAL_KINDS,
     NENERGY,
     NSCAL,
     NSISCAL,
@@ -43,15 +45,14 @@ from granum.core.contacts import (
 )
 from granum.core.shapes import CLUMP_MEMBER_COLUMNS, new_shape_tables
 from granum.core.table import Table
-from granum.physics import registry
 
 
 class BodyStore:
     """Body table, shape tables and the materials referred to by ``body.material``.
 
-    ``materials`` holds material objects (anything with ``kind`` - a registered
-    material class name - and ``column_values()`` - a dict of material-table column
-    values); ``body.material`` is an index into it.
+    ``materials`` holds material objects (anything with ``kind`` - a material class name
+    of :data:`~granum.core.arrays.MATERIAL_KINDS` - and ``column_values()`` - a dict of
+    material-table column values); ``body.material`` is an index into it.
     """
 
     def __init__(self, capacity: int = 8):
@@ -218,11 +219,11 @@ class Scene(BodyStore):
         key = tuple((id(m), m.version) for m in self.materials)
         if self._mat_cache is not None and self._mat_cache[0] == key:
             return self._mat_cache[1]
-        cols = registry.material_columns()
+        cols = MATERIAL_COLUMNS
         mat = np.full((max(len(self.materials), 1), len(cols)), np.nan)
         kind = np.zeros(max(len(self.materials), 1), np.int32)
         for k, m in enumerate(self.materials):
-            kind[k] = registry.material_code(m.kind)
+            kind[k] = MATERIAL_KINDS.index(m.kind)
             for name, value in m.column_values().items():
                 mat[k, cols.index(name)] = value
         self._mat_cache = (key, (kind, mat))

@@ -20,7 +20,8 @@ never interrupted, because the storage is saved exactly as it is, not reconstruc
   several places (a material in ``O.materials`` and used by bodies) is stored once and shared
   again after loading.
 
-Objects are rebuilt through the classes the ``granum.yade`` namespace exports, by name, with
+Objects are rebuilt through the classes of a namespace the caller passes (``O.save``/``O.load``
+pass the one ``granum.yade`` exports; this module sits below the YADE layer), by name, with
 their declared attributes as constructor keywords (read-only ones and private state set
 afterwards): no class, function or pickle is taken from a file. Loading runs no code, but the
 engines loaded run with the scene, and a ``PyRunner``'s ``command`` is Python code executed at
@@ -104,11 +105,10 @@ _ARRAY_KINDS = "biuf"
 _MISSING = object()
 
 
-def _classes() -> dict[str, type]:
-    """The classes objects are rebuilt with: engines, functors and materials of the YADE namespace."""
-    import granum.yade
-
-    return {n: c for n, c in granum.yade.namespace().items() if isinstance(c, type) and issubclass(c, Attributed)}
+def _classes(namespace: dict) -> dict[str, type]:
+    """The classes of ``namespace`` (name -> object, e.g. the YADE namespace) that objects are saved as
+    and rebuilt with: its engines, functors and materials, all :class:`~granum.core.attrs.Attributed`."""
+    return {n: c for n, c in namespace.items() if isinstance(c, type) and issubclass(c, Attributed)}
 
 
 def layout() -> dict:
@@ -141,8 +141,8 @@ def _plain(v) -> bool:
 class _Encoder:
     """Turns scene values into JSON values, collecting arrays and objects on the way."""
 
-    def __init__(self):
-        self.classes = _classes()
+    def __init__(self, classes: dict[str, type]):
+        self.classes = classes
         self.arrays: dict[str, np.ndarray] = {}
         self.objects: list[dict] = []
         self._index: dict[int, int] = {}   # id(object) -> its index in objects
@@ -226,12 +226,13 @@ class _Encoder:
                                               for c in t.columns if t.allocated(c.name)}}
 
 
-def scene_encode(scene: Scene, materials) -> tuple[dict, dict[str, np.ndarray]]:
-    """``(meta, arrays)`` of ``scene`` and ``O.materials`` (see the module docstring).
+def scene_encode(scene: Scene, materials, namespace: dict) -> tuple[dict, dict[str, np.ndarray]]:
+    """``(meta, arrays)`` of ``scene`` and ``O.materials`` (see the module docstring); objects must be of
+    the classes of ``namespace`` (name -> class, e.g. the YADE namespace).
 
     Raises :class:`CheckpointError` for a value a checkpoint cannot store.
     """
-    enc = _Encoder()
+    enc = _Encoder(_classes(namespace))
     fields = {n: enc.field(n, v) for n, v in vars(scene).items() if not n.startswith("_")}  # _*: caches
     mats = enc.value(list(materials), "O.materials")
     return {"layout": layout(), "scene": fields, "materials": mats, "objects": enc.objects}, enc.arrays
@@ -504,17 +505,19 @@ def scene_check(scene: Scene, source: str) -> None:
         _range(C.csr_con[: start[-1]], 0, ncon, "per-body contact index", source)
 
 
-def scene_decode(meta, arrays: dict[str, np.ndarray], source: str):
-    """``(scene, O.materials)`` rebuilt from ``(meta, arrays)``; raises :class:`CheckpointError`."""
+def scene_decode(meta, arrays: dict[str, np.ndarray], source: str, namespace: dict):
+    """``(scene, [materials of O.materials])`` rebuilt from ``(meta, arrays)`` with the classes of
+    ``namespace`` (name -> class, holding ``Material``, the base of the materials); raises
+    :class:`CheckpointError`."""
     from granum.engines.base import Engine
-    from granum.yade.materials import Material, MaterialContainer
 
     if not (isinstance(meta, dict) and set(meta) == {"layout", "scene", "materials", "objects"}
             and isinstance(meta["scene"], dict) and isinstance(meta["objects"], list)):
         raise CheckpointError(f"{source}: corrupt checkpoint (malformed manifest)")
     _layout_check(meta["layout"], source)
     dec = _Decoder(arrays, source)
-    classes = _classes()
+    classes = _classes(namespace)
+    material = classes["Material"]
     for node in meta["objects"]:
         dec.objects.append(dec.obj(node, classes))
     scene = Scene()
@@ -524,14 +527,11 @@ def scene_decode(meta, arrays: dict[str, np.ndarray], source: str):
         raise CheckpointError(f"{source}: the checkpoint's scene fields differ from this granum's ({odd})")
     for name, node in meta["scene"].items():
         setattr(scene, name, dec.field(name, getattr(scene, name), node))
-    materials = MaterialContainer()
-    saved_materials = dec.value(meta["materials"])
-    if not (isinstance(saved_materials, list)
-            and all(isinstance(m, Material) for m in saved_materials + scene.materials)
+    materials = dec.value(meta["materials"])
+    if not (isinstance(materials, list)
+            and all(isinstance(m, material) for m in materials + scene.materials)
             and all(isinstance(e, Engine) for e in scene.engines)):
         raise CheckpointError(f"{source}: corrupt checkpoint (materials or engines of the wrong type)")
-    for m in saved_materials:
-        materials.append(m)
     _codes_translate(scene.contacts, meta["layout"]["functors"], source)
     scene_check(scene, source)
     scene_values_check(scene, source)
@@ -539,8 +539,9 @@ def scene_decode(meta, arrays: dict[str, np.ndarray], source: str):
 
 
 # ---- files and bytes ----------------------------------------------------------------------------
-def checkpoint_write(path, scene: Scene, materials) -> None:
-    """Save ``scene`` and ``O.materials`` to ``path`` atomically, in the format its extension names.
+def checkpoint_write(path, scene: Scene, materials, namespace: dict) -> None:
+    """Save ``scene`` and ``O.materials`` to ``path`` atomically, in the format its extension names
+    (objects of the classes of ``namespace``, see :func:`scene_encode`).
 
     Everything is encoded before the file is touched; the data go to a temporary file in the same
     directory, flushed to disk, which then replaces ``path``. On any error the temporary file is
@@ -548,7 +549,7 @@ def checkpoint_write(path, scene: Scene, materials) -> None:
     """
     path = os.fspath(path)
     fmt, compression = format_of_path(path)
-    meta, arrays = scene_encode(scene, materials)
+    meta, arrays = scene_encode(scene, materials, namespace)
     try:
         with atomic_path(path) as tmp, open(tmp, "w+b") as f:
             container_write(f, fmt, compression, meta, arrays)
@@ -558,25 +559,28 @@ def checkpoint_write(path, scene: Scene, materials) -> None:
         raise type(e)(e.errno, f"O.save: cannot write {path!r}: {e.strerror}") from e
 
 
-def checkpoint_read(path):
-    """``(scene, O.materials)`` from the checkpoint ``path`` (any format, detected from the content)."""
+def checkpoint_read(path, namespace: dict):
+    """``(scene, [materials of O.materials])`` from the checkpoint ``path`` (any format, detected from the
+    content), objects rebuilt with the classes of ``namespace`` (see :func:`scene_decode`)."""
     path = os.fspath(path)
     if not os.path.exists(path):
         raise CheckpointNotFoundError(2, f"O.load: checkpoint file {path!r} does not exist")
     with open(path, "rb") as f:
         meta, arrays = container_read(f, path)
-    return scene_decode(meta, arrays, path)
+    return scene_decode(meta, arrays, path, namespace)
 
 
-def checkpoint_bytes(scene: Scene, materials) -> bytes:
-    """The checkpoint of ``scene`` and ``O.materials`` in memory (``.yade`` format; ``O.saveTmp``)."""
-    meta, arrays = scene_encode(scene, materials)
+def checkpoint_bytes(scene: Scene, materials, namespace: dict) -> bytes:
+    """The checkpoint of ``scene`` and ``O.materials`` in memory (``.yade`` format; ``O.saveTmp``), objects of
+    the classes of ``namespace``."""
+    meta, arrays = scene_encode(scene, materials, namespace)
     buf = io.BytesIO()
     container_write(buf, "yade", None, meta, arrays)
     return buf.getvalue()
 
 
-def checkpoint_from_bytes(data: bytes, source: str = "checkpoint in memory"):
-    """``(scene, O.materials)`` from :func:`checkpoint_bytes` output."""
+def checkpoint_from_bytes(data: bytes, namespace: dict, source: str = "checkpoint in memory"):
+    """``(scene, [materials of O.materials])`` from :func:`checkpoint_bytes` output, objects rebuilt with the
+    classes of ``namespace``."""
     meta, arrays = container_read(io.BytesIO(data), source)
-    return scene_decode(meta, arrays, source)
+    return scene_decode(meta, arrays, source, namespace)

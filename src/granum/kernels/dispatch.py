@@ -12,7 +12,7 @@ functor's parameters. The dispatch
 is compiled for the set in the table's type, so a kernel contains the functors its
 engine lists and no others (a sphere packing with Cundall-Strack compiles neither the
 facet geometry nor the visco-elastic law). Its source is generated from the registry
-(see :mod:`granum.kernels.codegen`), so registering a functor is all it takes to make it
+(see :mod:`granum._codegen`), so registering a functor is all it takes to make it
 callable from the kernels.
 
 The dispatch functions and the functors are inlined into their callers at Numba's IR level
@@ -28,7 +28,7 @@ from numba import types
 from numba.extending import overload
 
 import granum.physics  # noqa: F401  (registers the built-in functors)
-from granum.kernels.codegen import import_line, load_module
+from granum._codegen import import_line, load_module
 from granum.kernels.static import Static, static_value
 from granum.physics import registry
 

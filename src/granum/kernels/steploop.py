@@ -2,7 +2,7 @@
 
 The engine list is split into *segments*: maximal runs of compiled engines,
 separated by Python engines. For each distinct list of compiled stages a module is
-generated (see :mod:`granum.kernels.codegen`) with
+generated (see :mod:`granum._codegen`) with
 
 ``run_steps(nmax, segment, S, C, PP, stop_time, virt_last, virt_period, timing, times) -> (done, why)``
     With ``segment < 0``: runs up to ``nmax`` whole steps: deform the periodic cell,
@@ -30,7 +30,7 @@ so that passing parameters down to parallel loops counts no references.
 
 from __future__ import annotations
 
-from granum.kernels.codegen import import_line, load_module
+from granum._codegen import import_line, load_module
 
 WHY_DONE = 0
 WHY_DUE = 1

@@ -36,6 +36,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from granum.core.arrays import MATERIAL_COLUMNS, MATERIAL_KINDS, declare_material
 from granum.core.bodies import ShapeKind
 
 
@@ -200,6 +201,7 @@ def register_material(kind: MaterialKind) -> None:
     if kind.parent is not None and kind.parent not in MATERIALS:
         raise KeyError(f"parent material {kind.parent!r} of {kind.name!r} is not registered")
     MATERIALS[kind.name] = kind
+    declare_material(kind.name, [kind.columns.get(p.name, p.name) for p in kind.params])
 
 
 _sealed = False
@@ -230,7 +232,8 @@ def register_functor(f: Functor) -> None:
 
 
 def material_code(name: str) -> int:
-    return list(MATERIALS).index(name)
+    """Code of the material class ``name`` (its value in the scene's ``mat_kind``)."""
+    return MATERIAL_KINDS.index(name)
 
 
 def material_ancestry(name: str) -> list[str]:
@@ -248,14 +251,9 @@ def material_params(name: str) -> list[Param]:
 
 
 def material_columns() -> list[str]:
-    """Columns of the compiled material table, in a fixed order."""
-    cols = []
-    for kind in MATERIALS.values():
-        for p in kind.params:
-            col = kind.columns.get(p.name, p.name)
-            if col not in cols:
-                cols.append(col)
-    return cols
+    """Columns of the compiled material table, in a fixed order (declared to the storage as the
+    materials are registered, :func:`granum.core.arrays.declare_material`)."""
+    return list(MATERIAL_COLUMNS)
 
 
 def _type_ancestry(table: dict, name: str) -> list[str]:

@@ -37,6 +37,13 @@ from granum.yade.progress import Progress, progress_wanted
 _MEMORY = ":memory:"
 
 
+def _namespace() -> dict:
+    """What checkpoint objects are saved as and rebuilt from: the classes of the YADE namespace, by name."""
+    import granum.yade
+
+    return granum.yade.namespace()
+
+
 class EnergyTracker:
     """``O.energy``: named energy terms (dict-like; a term appears once it was computed)."""
 
@@ -208,6 +215,13 @@ class Omega:
         self._scenes[self._this_scene] = (scene, materials)
         self._runner = Runner(scene, self)
         self._bind_labels(scene.engines)
+
+    def _loaded(self, scene: Scene, materials: list) -> None:
+        """Make a loaded checkpoint's scene the current one, with its ``materials`` as O.materials."""
+        container = MaterialContainer()
+        for m in materials:
+            container.append(m)
+        self._new_scene(scene, container)
 
     # ---- several scenes ------------------------------------------------------------------
     @property
@@ -598,7 +612,7 @@ class Omega:
         ``.gz``/``.bz2``; see :mod:`granum.io.checkpoint`). The file is written atomically. ``quiet`` is
         accepted (granum prints nothing either way)."""
         with self._paused():
-            checkpoint.checkpoint_write(file, self._scene, self.materials)
+            checkpoint.checkpoint_write(file, self._scene, self.materials, _namespace())
         self.filename = str(file)
 
     @contextlib.contextmanager
@@ -628,7 +642,7 @@ class Omega:
         :meth:`run`, as in YADE. Load only checkpoints you trust, as you would run only scripts you
         trust."""
         self._stop_and_wait()
-        self._new_scene(*checkpoint.checkpoint_read(file))
+        self._loaded(*checkpoint.checkpoint_read(file, _namespace()))
         self.filename = str(file)
 
     def reload(self, quiet: bool = False) -> None:
@@ -644,7 +658,7 @@ class Omega:
     def saveTmp(self, mark: str = "", quiet: bool = False) -> None:
         """Keep the whole scene in memory under ``mark`` (the checkpoint :meth:`save` writes, as bytes)."""
         with self._paused():
-            self._snapshots[mark] = checkpoint.checkpoint_bytes(self._scene, self.materials)
+            self._snapshots[mark] = checkpoint.checkpoint_bytes(self._scene, self.materials, _namespace())
         self.filename = _MEMORY + mark
 
     def _tmp(self, mark: str, who: str) -> bytes:
@@ -656,7 +670,7 @@ class Omega:
         """Replace the scene by the copy saved with ``saveTmp(mark)``."""
         data = self._tmp(mark, "loadTmp")
         self._stop_and_wait()
-        self._new_scene(*checkpoint.checkpoint_from_bytes(data, f"O.saveTmp({mark!r})"))
+        self._loaded(*checkpoint.checkpoint_from_bytes(data, _namespace(), f"O.saveTmp({mark!r})"))
         self.filename = _MEMORY + mark
 
     def lsTmp(self) -> list:
@@ -682,14 +696,14 @@ class Omega:
     def sceneToString(self) -> bytes:
         """The whole scene as the bytes of a ``.yade`` checkpoint (see :meth:`stringToScene`)."""
         with self._paused():
-            return checkpoint.checkpoint_bytes(self._scene, self.materials)
+            return checkpoint.checkpoint_bytes(self._scene, self.materials, _namespace())
 
     def stringToScene(self, data: bytes, mark: str = "") -> None:
         """Replace the scene by one from :meth:`sceneToString` (validated as any checkpoint)."""
         if not isinstance(data, bytes | bytearray):
             raise TypeError(f"O.stringToScene: expected the bytes of O.sceneToString(), got {type(data).__name__}")
         self._stop_and_wait()
-        self._new_scene(*checkpoint.checkpoint_from_bytes(bytes(data), "O.stringToScene"))
+        self._loaded(*checkpoint.checkpoint_from_bytes(bytes(data), _namespace(), "O.stringToScene"))
 
     def default_material(self):
         """The material of bodies created with ``material=-1``: the last in O.materials,

@@ -1,11 +1,13 @@
 """Generated kernel modules.
 
-Two pieces of compiled code depend on run-time configuration: the dispatch from
-functor codes to registered physics functions (it depends on the registry) and the
-fused step loop (it depends on the engine list). Both are rendered as Python source,
-written to the cache directory and imported like ordinary modules, so that Numba can
-cache their compiled code on disk like any other kernel. The file name carries a
-hash of the source: a configuration seen before loads without recompiling.
+Three pieces of compiled code depend on run-time configuration: the conversions of a
+record kind (its fields, :mod:`granum.core.records`), the dispatch from functor codes
+to registered physics functions (it depends on the registry) and the fused step loop
+(it depends on the engine list). All are rendered as Python source, written to the
+cache directory and imported like ordinary modules, so that Numba can cache their
+compiled code on disk like any other kernel. The file name carries a hash of the
+source: a configuration seen before loads without recompiling. The module sits in
+the bottom layer, beside :mod:`granum._jit`, because the records of ``core`` use it.
 """
 
 from __future__ import annotations
