@@ -42,13 +42,18 @@ half = 0.5 * (n - 1) * s + r * (1 - overlap)
 c = r + 0.5 * (n - 1) * s
 O.bodies.append(geom.facetBox((c, c, c), (half, half, half), material=mat))
 
+law = Law2_ScGeom_FrictPhys_CundallStrack()
+if os.environ.get('BENCH_LAW', '') == 'user':  # granum only: the same law written as a user's law
+    from user_cundall_strack import Law2_ScGeom_FrictPhys_UserCundallStrack
+    law = Law2_ScGeom_FrictPhys_UserCundallStrack()
+
 O.engines = [
     ForceResetter(),
     InsertionSortCollider([Bo1_Sphere_Aabb(), Bo1_Facet_Aabb()]),
     InteractionLoop(
         [Ig2_Sphere_Sphere_ScGeom(), Ig2_Facet_Sphere_ScGeom()],
         [Ip2_FrictMat_FrictMat_FrictPhys()],
-        [Law2_ScGeom_FrictPhys_CundallStrack()],
+        [law],
     ),
     NewtonIntegrator(damping=0.2, gravity=(0, 0, -9.81)),
 ]

@@ -81,11 +81,15 @@ HISTORY_COLUMNS: dict[str, tuple[int, int]] = {}
 def register_history(name: str, width: int) -> int:
     """Declare a group of per-contact float columns (a law's history); return its offset in ``con_f``.
 
-    Must be called at import time of the law's module, before any scene exists. Functors that use
-    the group name it in :attr:`granum.physics.registry.Functor.history`.
+    Functors that use the group name it in :attr:`granum.physics.registry.Functor.history`. Groups are
+    appended, so a group declared later (a user's law, :mod:`granum.yade.userlaws`) moves no other
+    one; declaring a group again with the same width returns its offset (a script run twice).
     """
     if name in HISTORY_COLUMNS:
-        raise ValueError(f"contact history column {name!r} is declared twice")
+        offset, old_width = HISTORY_COLUMNS[name]
+        if old_width != width:
+            raise ValueError(f"contact history column group {name!r} is already declared with width {old_width}")
+        return offset
     offset = nf()
     HISTORY_COLUMNS[name] = (offset, width)
     return offset

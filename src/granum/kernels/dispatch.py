@@ -49,14 +49,21 @@ def functors(role: str) -> list[registry.Functor]:
 def code_of(yade_name: str) -> int:
     """Code of a registered functor."""
     f = registry.FUNCTORS[yade_name]
-    return functors(f.role).index(f)
+    return [g.yade_name for g in functors(f.role)].index(yade_name)
 
 
 def functor_set(role: str, codes) -> Static:
-    """The functors of ``role`` that a kernel may call, by code: the first item of a functor table."""
+    """The functors of ``role`` that a kernel may call, by code: the first item of a functor table.
+
+    When some of them are written outside granum (``Functor.function``), the value ends with their
+    code digests: a kernel is compiled, and cached on disk, for the code of the law it contains, so an
+    edited law compiles again and an unchanged one loads from the cache."""
     if role not in ROLES:
         raise ValueError(f"unknown functor role {role!r}")
-    return Static(("functors", role, tuple(sorted({int(c) for c in codes}))))
+    codes = tuple(sorted({int(c) for c in codes}))
+    registered = functors(role)
+    digests = tuple(f"{k}:{registered[k].digest}" for k in codes if registered[k].function is not None)
+    return Static(("functors", role, codes) + digests)
 
 
 def render(role: str, codes: tuple) -> str:
@@ -71,9 +78,15 @@ def render(role: str, codes: tuple) -> str:
     registered = functors(role)
     for k in codes:
         alias = f"{role}_{k}"
+        f = registered[k]
         # an inlined copy of the functor's Python function (never compiled on its own)
-        lines.append(import_line(registered[k].func, alias + "_src"))
-        lines.append(f"{alias} = jit(inline='always')({alias}_src.py_func)")
+        if f.function is None:
+            lines.append(import_line(f.func, alias + "_src"))
+        else:   # a user's law, handed to the registry as a function; the digest names this version of it
+            lines += ["from granum.physics.registry import FUNCTORS",
+                      f"{alias}_src = FUNCTORS[{f.yade_name!r}].function  # code digest {f.digest}"]
+        # (no cache of its own: it is compiled into its caller, and a script's function has no file to key one on)
+        lines.append(f"{alias} = jit(inline='always', cache=False)(getattr({alias}_src, 'py_func', {alias}_src))")
         body += [f"    if code == {k}:", f"        return {alias}({call_args})"]
     body.append(f"    return {FALLBACK[role]}")
     return "\n".join(lines + body) + "\n"

@@ -33,8 +33,13 @@ Calling conventions of the registered compiled functions (``S``: scene arrays,
 
 from __future__ import annotations
 
+import hashlib
+import inspect
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
+
+import numpy as np
 
 from granum.core.arrays import MATERIAL_COLUMNS, MATERIAL_KINDS, declare_material
 from granum.core.bodies import ShapeKind
@@ -140,6 +145,10 @@ class Functor:
         doc: description with formula and reference.
         history: the contact column groups the function reads or writes beyond the core ones
             (:func:`granum.core.contacts.register_history`); the pool is made that wide.
+        function: a law written outside granum (:mod:`granum.yade.userlaws`): the plain Python function,
+            compiled into the dispatch like the built-in ones; None for granum's functors, which ``func``
+            names.
+        digest: for such a function, :func:`code_digest` of it: the compiled code is cached under it.
     """
 
     yade_name: str
@@ -150,6 +159,8 @@ class Functor:
     params: tuple[Param, ...] = ()
     doc: str = ""
     history: tuple[str, ...] = ()
+    function: Callable | None = field(default=None, compare=False, repr=False)
+    digest: str = ""
 
     def compiled_params(self) -> tuple[Param, ...]:
         """The parameters compiled code receives in its row ``prm``, in this order: the supported ones
@@ -175,7 +186,12 @@ FUNCTORS: dict[str, Functor] = {}
 def _add_type(table: dict, name: str, parent: str | None, fields: dict | None) -> None:
     if parent is not None and parent not in table:
         raise KeyError(f"parent type {parent!r} of {name!r} is not registered")
-    table.setdefault(name, TypeInfo(name, parent, len(table), dict(fields or {})))
+    old = table.get(name)
+    info = TypeInfo(name, parent, old.code if old else len(table), dict(fields or {}))
+    if old is not None and old != info:   # the same declaration again (a script run twice) is no change
+        raise ValueError(f"type {name!r} is already declared with parent {old.parent!r} and fields "
+                         f"{sorted(old.fields)}; choose another name")
+    table[name] = info
 
 
 def register_geom_type(name: str, parent: str | None = None, fields: dict | None = None) -> None:
@@ -216,19 +232,82 @@ def seal() -> None:
 def register_functor(f: Functor) -> None:
     """Declare a functor (see the module docstring for the compiled calling conventions).
 
-    Functors live in granum's own physics modules: the compiled dispatch is generated from the
-    registry once, when the kernels are imported, and the kernel cache is keyed by granum's sources
-    only, so a functor registered later, or compiled from elsewhere, could silently never be called
-    or run stale cached code."""
-    if f.yade_name in FUNCTORS:
-        raise ValueError(f"functor {f.yade_name} is registered twice")
-    if not f.func.startswith("granum.physics."):
-        raise ValueError(f"functor {f.yade_name}: its function {f.func!r} must be in a module of granum.physics "
-                         f"(see ARCHITECTURE.md, 'How to add a contact law')")
-    if _sealed:
-        raise RuntimeError(f"functor {f.yade_name} is registered after the kernels were compiled; register it in a "
-                           f"granum.physics module imported by granum/physics/__init__.py")
+    granum's own functors name their function (``func``) in a module of granum.physics, registered
+    before the kernels are imported: the kernel cache is keyed by granum's sources. A functor defined
+    elsewhere (a script, a user's module: :mod:`granum.yade.userlaws`) hands over the function itself
+    with its :func:`code_digest`, which keys the compiled code instead; it may be registered at any
+    time and registered again (a script run twice, an edited law) for the same role and types, keeping
+    its code."""
+    old = FUNCTORS.get(f.yade_name)
+    if f.function is None:
+        if old is not None:
+            raise ValueError(f"functor {f.yade_name} is registered twice")
+        if not f.func.startswith("granum.physics."):
+            raise ValueError(f"functor {f.yade_name}: its function {f.func!r} must be in a module of granum.physics "
+                             f"(see ARCHITECTURE.md, 'How to add a contact law'), or be handed over as a function "
+                             f"(granum.yade.userlaws)")
+        if _sealed:
+            raise RuntimeError(f"functor {f.yade_name} is registered after the kernels were compiled; register it "
+                               f"in a granum.physics module imported by granum/physics/__init__.py")
+    elif old is not None and (old.function is None or (old.role, old.types, old.produces) != (f.role, f.types,
+                                                                                               f.produces)):
+        what = "granum's own functor" if old.function is None else \
+            f"the {old.role} functor for {old.types} registered before"
+        raise ValueError(f"functor {f.yade_name} is already {what}; choose another name")
     FUNCTORS[f.yade_name] = f
+
+
+def code_digest(func: Callable) -> str:
+    """A hash of what a law's compiled code is made of: its Python bytecode, constants and names, and,
+    through the globals it reads, the functions it calls (recursively) and the values of the constants
+    it reads, which Numba freezes into the machine code (16 hex digits).
+
+    Line numbers and file names are left out, so moving a law in its script keeps its cached code.
+    Functions of granum itself are represented by their name: the kernel cache is keyed by granum's
+    sources already. A global that is a module is not followed (``math.sqrt`` is stable); attributes of
+    a user's own module read as ``mod.X`` inside the law are therefore not part of the hash: import
+    them by name.
+    """
+    h = hashlib.sha256()
+    seen: set[int] = set()
+
+    def value(v) -> None:
+        if isinstance(v, bool | int | float | complex | str | bytes | type(None)):
+            h.update(repr(v).encode())
+        elif isinstance(v, tuple):
+            for x in v:
+                value(x)
+        elif isinstance(v, np.ndarray):
+            h.update(f"{v.dtype}{v.shape}".encode() + np.ascontiguousarray(v).tobytes())
+        elif hasattr(v, "py_func") or inspect.isfunction(v):
+            function(v)
+
+    def function(fn) -> None:
+        fn = getattr(fn, "py_func", fn)
+        if id(fn) in seen:
+            return
+        seen.add(id(fn))
+        if (getattr(fn, "__module__", None) or "").startswith("granum."):
+            h.update(f"{fn.__module__}:{fn.__qualname__}".encode())
+            return
+        code(fn.__code__, fn.__globals__)
+        for cell in fn.__closure__ or ():   # the variables of an enclosing function, frozen like globals
+            value(cell.cell_contents)
+
+    def code(co, globs: dict) -> None:
+        h.update(co.co_code + repr((co.co_names, co.co_varnames, co.co_argcount)).encode())
+        for const in co.co_consts:
+            if inspect.iscode(const):
+                code(const, globs)
+            else:
+                value(const)
+        for name in co.co_names:
+            if name in globs and not inspect.ismodule(globs[name]):
+                h.update(name.encode())
+                value(globs[name])
+
+    function(func)
+    return h.hexdigest()[:16]
 
 
 def material_code(name: str) -> int:

@@ -98,9 +98,11 @@ class _ContactView:
         return f"<{type(self).__name__} instance at {hex(id(self))}>"
 
 
-def _make_views(table: dict) -> dict:
-    views = {}
+def add_views(table: dict, views: dict) -> dict:
+    """Add to ``views`` a view class for each type of ``table`` (GEOM_TYPES or PHYS_TYPES) it lacks."""
     for name in table:
+        if name in views:
+            continue
         parent = table[name].parent
         base = views[parent] if parent else _ContactView
         views[name] = type(name, (base,), {"__slots__": (), "_fields": registry.type_fields(table, name),
@@ -108,7 +110,7 @@ def _make_views(table: dict) -> dict:
     return views
 
 
-GEOM_VIEWS = _make_views(registry.GEOM_TYPES)
+GEOM_VIEWS = add_views(registry.GEOM_TYPES, {})
 
 
 def _incident_vel(self, i=None, avoidGranularRatcheting: bool = True) -> Vector3:
@@ -129,7 +131,7 @@ def _incident_vel(self, i=None, avoidGranularRatcheting: bool = True) -> Vector3
 
 
 GEOM_VIEWS["ScGeom"].incidentVel = _incident_vel
-PHYS_VIEWS = _make_views(registry.PHYS_TYPES)
+PHYS_VIEWS = add_views(registry.PHYS_TYPES, {})
 
 
 class Interaction:

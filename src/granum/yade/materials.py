@@ -70,16 +70,20 @@ def _make(kind: registry.MaterialKind, base: type) -> type:
 CLASSES: dict[str, type] = {"Material": None}
 
 
-def _build() -> None:
-    for name, kind in registry.MATERIALS.items():
-        if name == "Material":
-            Material._attrs.update({p.name: Attr(p.default, p.doc, _converter(p)) for p in kind.params})
-            CLASSES[name] = Material
-        else:
-            CLASSES[name] = _make(kind, CLASSES[kind.parent])
+def add_class(kind: registry.MaterialKind) -> type:
+    """Make (or make again, for a changed declaration) the class of a registered material kind."""
+    if kind.name == "Material":
+        Material._attrs.update({p.name: Attr(p.default, p.doc, _converter(p)) for p in kind.params})
+        CLASSES["Material"] = Material
+    else:
+        CLASSES[kind.name] = _make(kind, CLASSES[kind.parent])
+    return CLASSES[kind.name]
 
 
-_build()
+for _kind in registry.MATERIALS.values():
+    add_class(_kind)
+#: the materials granum itself declares (a user's material may not take their names)
+BUILT_IN = frozenset(CLASSES)
 
 
 def default_material():
