@@ -11,6 +11,7 @@ from granum.physics import (  # noqa: F401  (imported for their registrations)
     frict,
     l3geom,
     materials,
+    mindlin,
     sphere,
     viscel,
     wall,

@@ -52,7 +52,8 @@ from granum.engines.pyrunner import PyRunner
 from granum.engines.runner import SimulationError
 from granum.idem import IDEMSolver
 from granum.mathtypes import Matrix3, Quaternion, Vector2, Vector2i, Vector3, Vector3i, Vector6
-from granum.yade import (  # noqa: F401 - the yade.X modules
+from granum.yade import (  # noqa: F401 - the yade.X modules (_laws: the law classes' accumulators and counts)
+    _laws,
     bodiesHandling,
     config,
     export,

@@ -1,0 +1,85 @@
+"""What a script reads from a law functor about the current scene's contacts: the accumulators and counts
+of ``Law2_ScGeom_MindlinPhys_Mindlin`` (YADE's ``frictionDissipation``, ``ratioSlidingContacts()``...).
+
+They are added to the classes generated from the registry (:mod:`granum.engines.functors`) and computed
+with NumPy from the contacts of ``O``'s scene that this law handles. The energies are sums of the
+per-contact accumulators the compiled law keeps (:mod:`granum.physics.mindlin`, with ``calcEnergy``), over
+the live contacts: unlike YADE's, the share of a contact that has ended is not kept.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from granum.core.contacts import C_CONTACTS, F_PEN, FLAG_ALIVE, I_FLAGS, I_LAW
+from granum.engines.functors import CLASSES
+from granum.kernels.dispatch import code_of
+from granum.physics import mindlin
+
+MINDLIN = CLASSES["Law2_ScGeom_MindlinPhys_Mindlin"]
+
+
+def _rows(law_name: str) -> np.ndarray:
+    """The ``con_f`` rows of the current scene's live contacts handled by ``law_name`` (0 rows if the pool
+    has no Mindlin columns)."""
+    from granum.yade.omega import O
+
+    C = O._scene.contacts
+    n = int(C.ctr[C_CONTACTS])
+    ci = C.con_i[:n]
+    live = (ci[:, I_FLAGS] & FLAG_ALIVE != 0) & (ci[:, I_LAW] == code_of(law_name))
+    f = C.con_f[:n][live]
+    return f if f.shape[1] >= mindlin.F_MINDLIN + 27 else f[:0, :0]
+
+
+def _column_sum(col: int):
+    def get(self) -> float:
+        f = _rows(type(self).__name__)
+        return float(f[:, col].sum()) if f.size else 0.0
+    return property(get, doc=f"Sum over the live contacts (column {col} of the pool) [J]")
+
+
+MINDLIN.frictionDissipation = _column_sum(mindlin.F_FRICT_DISSIP)
+MINDLIN.shearEnergy = _column_sum(mindlin.F_SHEAR_ENERGY)
+MINDLIN.normDampDissip = _column_sum(mindlin.F_NDAMP_DISSIP)
+MINDLIN.shearDampDissip = _column_sum(mindlin.F_SDAMP_DISSIP)
+
+
+def _ratio_sliding(self) -> float:
+    """Fraction of this law's contacts that slide (NaN without contacts, as YADE's 0/0) [-]."""
+    f = _rows(type(self).__name__)
+    return float(f[:, mindlin.F_SLIDING].sum() / f.shape[0]) if f.size else float("nan")
+
+
+def _contacts_adhesive(self) -> float:
+    """Number of this law's contacts whose normal force pulls (includeAdhesion) [-]."""
+    f = _rows(type(self).__name__)
+    return float(f[:, mindlin.F_ADHESIVE].sum()) if f.size else 0.0
+
+
+def _norm_elast_energy(self) -> float:
+    """Normal elastic energy of this law's contacts, sum of 2/5 kno delta^(5/2) [J] (with includeAdhesion,
+    less the work of the adhesion force, adhesionForce delta)."""
+    f = _rows(type(self).__name__)
+    if not f.size:
+        return 0.0
+    pen = np.maximum(f[:, F_PEN], 0.0)
+    e = 0.4 * f[:, mindlin.F_KNO] * pen ** 2.5
+    if self.includeAdhesion:
+        e = e - f[:, mindlin.F_ADH] * pen
+    return float(e.sum())
+
+
+def _get_ratcheting(self) -> bool:
+    """YADE's deprecated alias of ``nothing`` (no effect)."""
+    return self.nothing
+
+
+def _set_ratcheting(self, value) -> None:
+    self.nothing = value
+
+
+MINDLIN.ratioSlidingContacts = _ratio_sliding
+MINDLIN.contactsAdhesive = _contacts_adhesive
+MINDLIN.normElastEnergy = _norm_elast_energy
+MINDLIN.preventGranularRatcheting = property(_get_ratcheting, _set_ratcheting, doc=_get_ratcheting.__doc__)
