@@ -2,8 +2,9 @@
 
 An engine is one stage of the per-step pipeline. A *compiled* engine names a
 compiled stage function (``stage = "module:function"``, called as
-``stage(S, C, P)`` on the scene and contact records) and builds its parameter tuple ``P`` in :meth:`Engine.params`;
-it holds configuration only, no physics. A *Python* engine (``stage is None``)
+``stage(S, C, P)`` on the scene and contact records) and builds its parameters ``P``
+in :meth:`Engine.params` (a named tuple declared beside the stage); it holds
+configuration only, no physics. A *Python* engine (``stage is None``)
 implements :meth:`Engine.run_python`; the runner returns to Python only at steps
 where such an engine is due.
 """
@@ -34,7 +35,8 @@ class Engine(Attributed):
     _plan_index = 0
 
     def params(self, scene, engines) -> tuple:
-        """Parameter tuple ``P`` of the compiled stage (``engines``: the whole engine list)."""
+        """Parameters ``P`` of the compiled stage: the named tuple its kernel module declares beside it, built
+        by keyword (``engines``: the whole engine list). A stage without parameters gets ``()``."""
         return ()
 
     def run_hook(self, omega) -> None:

@@ -53,17 +53,18 @@ class PeriTriaxController(GlobalEngine):
         super().__init__(**kw)
         object.__setattr__(self, "_out", np.full(k.O_SIZE, np.nan))
 
-    def params(self, scene, engines) -> tuple:
+    def params(self, scene, engines) -> k.PeriTriaxParams:
         if not scene.periodic:
             raise RuntimeError("PeriTriaxController needs a periodic scene (O.periodic = True)")
         mass = self.mass
         if not mass > 0:
             b = scene.bodies
             mass = float(b.mass[: b.count][b.alive[: b.count]].sum())
-        return (np.array(self.goal._a), int(self.stressMask), np.array(self.maxStrainRate._a),
-                float(self.maxUnbalanced), float(self.absStressTol), float(self.relStressTol),
-                float(self.growDamping), int(self.globUpdate), bool(self.dynCell), float(mass),
-                int(self._plan_index), self._out)
+        return k.PeriTriaxParams(
+            goal=np.array(self.goal._a), stress_mask=int(self.stressMask), max_rate=np.array(self.maxStrainRate._a),
+            max_unbalanced=float(self.maxUnbalanced), abs_tol=float(self.absStressTol),
+            rel_tol=float(self.relStressTol), grow_damping=float(self.growDamping), glob_update=int(self.globUpdate),
+            dyn_cell=bool(self.dynCell), mass=float(mass), hook_id=int(self._plan_index), out=self._out)
 
     def run_hook(self, omega) -> None:
         if self.doneHook:

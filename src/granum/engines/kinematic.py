@@ -13,7 +13,16 @@ import numpy as np
 from granum.core.attrs import Attr, to_bool, to_float
 from granum.engines.base import PartialEngine
 from granum.engines.pipeline import to_vec3
-from granum.kernels.forces import K_AXIS, K_COLS, K_ORBIT, K_SPEED, K_VEL, K_ZERO
+from granum.kernels.forces import (
+    K_AXIS,
+    K_COLS,
+    K_ORBIT,
+    K_SPEED,
+    K_VEL,
+    K_ZERO,
+    ForceParams,
+    KinematicParams,
+)
 from granum.mathtypes import Vector3
 
 KINEMATIC_STAGE = "granum.kernels.forces:kinematic_stage"
@@ -48,7 +57,7 @@ def part_row(velocity=(0.0, 0.0, 0.0), axis=(0.0, 0.0, 0.0), speed: float = 0.0,
     return row
 
 
-def kinematic_params(engine, parts: list, scene) -> tuple:
+def kinematic_params(engine, parts: list, scene) -> KinematicParams:
     """Parameters of :func:`~granum.kernels.forces.kinematic_stage` for ``engine``'s ids and the kinematic
     engines ``parts``, run in order; the angle each part turns is accumulated in a (K,) array that the
     parts keeping ``angleTurned`` take as their storage (:meth:`KinematicEngine.share_turned`)."""
@@ -56,7 +65,7 @@ def kinematic_params(engine, parts: list, scene) -> tuple:
     turned = np.zeros(len(parts))
     for k, e in enumerate(parts):
         e.share_turned(turned, k)
-    return (engine.id_array(scene), rows, turned)
+    return KinematicParams(ids=engine.id_array(scene), parts=rows, turned=turned)
 
 
 class ForceEngine(PartialEngine):
@@ -65,8 +74,8 @@ class ForceEngine(PartialEngine):
     stage = "granum.kernels.forces:force_stage"
     _attrs = {"force": Attr(Vector3(0, 0, 0), "Force added to each body [N]", to_vec3)}
 
-    def params(self, scene, engines) -> tuple:
-        return (self.id_array(scene), np.array(self.force._a, dtype=np.float64))
+    def params(self, scene, engines) -> ForceParams:
+        return ForceParams(ids=self.id_array(scene), force=np.array(self.force._a, dtype=np.float64))
 
 
 class KinematicEngine(PartialEngine):
@@ -83,7 +92,7 @@ class KinematicEngine(PartialEngine):
     def share_turned(self, turned: np.ndarray, k: int) -> None:
         """Keep the angle turned in ``turned[k]`` from now on (engines with ``angleTurned``)."""
 
-    def params(self, scene, engines) -> tuple:
+    def params(self, scene, engines) -> KinematicParams:
         return kinematic_params(self, [self], scene)
 
     def __add__(self, other):
@@ -173,7 +182,7 @@ class CombinedKinematicEngine(PartialEngine):
     stage = KINEMATIC_STAGE
     _attrs = {"comb": Attr([], "Kinematic engines combined, run in the order given", _kinematic_list)}
 
-    def params(self, scene, engines) -> tuple:
+    def params(self, scene, engines) -> KinematicParams:
         return kinematic_params(self, [e for e in self.comb if not e.dead], scene)
 
     def labelled_parts(self) -> list:

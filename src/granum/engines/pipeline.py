@@ -1,7 +1,7 @@
 """The engines of YADE's standard step: ForceResetter, InsertionSortCollider,
 InteractionLoop, NewtonIntegrator and GravityEngine.
 
-Each only translates its YADE attributes into the parameter tuple of a compiled
+Each only translates its YADE attributes into the named parameters of a compiled
 stage (see :mod:`granum.kernels`); dispatch tables for the InteractionLoop are built
 here from the listed functors and the type hierarchies of the registry.
 """
@@ -17,7 +17,11 @@ from granum.core.bodies import ShapeKind
 from granum.core.contacts import contact_width
 from granum.engines.base import GlobalEngine
 from granum.engines.functors import check_role, functor_table
+from granum.kernels.collider import ColliderParams
 from granum.kernels.dispatch import code_of, functors
+from granum.kernels.forces import GravityParams
+from granum.kernels.interaction import InteractionParams
+from granum.kernels.newton import NewtonParams
 from granum.kernels.static import Static
 from granum.mathtypes import Matrix3, Vector3, as_vec3
 from granum.physics import registry
@@ -159,12 +163,13 @@ class InsertionSortCollider(GlobalEngine):
     def functors(self) -> list:
         return list(self.boundDispatcher.functors)
 
-    def params(self, scene, engines) -> tuple:
+    def params(self, scene, engines) -> ColliderParams:
         bound_code = np.full(NKINDS, -1, np.int32)
         for f in self.boundDispatcher.functors:
             bound_code[f.spec.types[0]] = f.code
-        return (bound_code, functor_table("bound", self.boundDispatcher.functors), float(self.verletDist),
-                int(self.avoidSelfInteractionMask), Static(("cell", bool(scene.periodic))))
+        return ColliderParams(bound_code=bound_code, bound_tab=functor_table("bound", self.boundDispatcher.functors),
+                              verlet_dist=float(self.verletDist), avoid_self=int(self.avoidSelfInteractionMask),
+                              cell=Static(("cell", bool(scene.periodic))))
 
 
 class InteractionLoop(GlobalEngine):
@@ -201,17 +206,18 @@ class InteractionLoop(GlobalEngine):
                                                                    self.lawDispatcher))
         return {name: a.copy() for name, a in _dispatch_tables(*key, len(registry.MATERIALS)).items()}
 
-    def params(self, scene, engines) -> tuple:
+    def params(self, scene, engines) -> InteractionParams:
         t = self.tables(scene)
         geom_tab = functor_table("geom", self.geomDispatcher.functors, scene.contact_functors("geom"))
         # pairs skip detection on budgets computed with these functors (see interaction.detect_pair)
         scene.detection_uses(t["geom_code"].tobytes() + t["geom_swap"].tobytes() + geom_tab[1].tobytes())
-        return (t["geom_code"], t["geom_swap"], geom_tab, t["geom_type"],
-                t["phys_code"], t["phys_swap"], functor_table("phys", self.physDispatcher.functors,
-                                                              scene.contact_functors("phys")), t["phys_type"],
-                t["law_code"], functor_table("law", self.lawDispatcher.functors, scene.contact_functors("law")),
-                t["pair_ok"],
-                contact_width(self.contact_groups(scene)))
+        return InteractionParams(
+            geom_code=t["geom_code"], geom_swap=t["geom_swap"], geom_tab=geom_tab, geom_type=t["geom_type"],
+            phys_code=t["phys_code"], phys_swap=t["phys_swap"],
+            phys_tab=functor_table("phys", self.physDispatcher.functors, scene.contact_functors("phys")),
+            phys_type=t["phys_type"], law_code=t["law_code"],
+            law_tab=functor_table("law", self.lawDispatcher.functors, scene.contact_functors("law")),
+            pair_ok=t["pair_ok"], width=contact_width(self.contact_groups(scene)))
 
     def contact_groups(self, scene) -> set[str]:
         """The ``con_f`` column groups this loop's contacts need: the history its functors declare, and
@@ -286,8 +292,9 @@ class NewtonIntegrator(GlobalEngine):
         "prevVelGrad": Attr(Matrix3.Zero, "Velocity gradient of the periodic cell at the previous step [1/s]"),
     }
 
-    def params(self, scene, engines) -> tuple:
-        return (np.array(self.gravity._a, dtype=np.float64), float(self.damping), bool(self.dampGravity))
+    def params(self, scene, engines) -> NewtonParams:
+        return NewtonParams(gravity=np.array(self.gravity._a, dtype=np.float64), damping=float(self.damping),
+                            damp_gravity=bool(self.dampGravity))
 
 
 class GravityEngine(GlobalEngine):
@@ -300,5 +307,5 @@ class GravityEngine(GlobalEngine):
         "warnOnce": Attr(True, "Accepted for compatibility", to_bool),
     }
 
-    def params(self, scene, engines) -> tuple:
-        return (np.array(self.gravity._a, dtype=np.float64), int(self.mask))
+    def params(self, scene, engines) -> GravityParams:
+        return GravityParams(gravity=np.array(self.gravity._a, dtype=np.float64), mask=int(self.mask))

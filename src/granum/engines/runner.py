@@ -105,8 +105,9 @@ def _type_key(value):
     """What determines the Numba type of a kernel argument, computed faster than the type itself for
     records, arrays, Python scalars, static values and tuples of them (anything else is typed by Numba):
     the step loop is compiled per type."""
-    if isinstance(value, tuple):
-        return tuple(_type_key(v) for v in value)
+    if isinstance(value, tuple):   # a stage's named parameters: their class is part of the type
+        key = tuple(_type_key(v) for v in value)
+        return key if type(value) is tuple else (type(value), key)
     if isinstance(value, np.ndarray):
         f = value.flags
         return value.dtype.str, value.ndim, f.c_contiguous, f.f_contiguous, f.writeable, f.aligned

@@ -22,6 +22,7 @@ distance is zero.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba.extending import overload
@@ -51,7 +52,7 @@ from granum.kernels.dispatch import bound_call
 from granum.kernels.pairing import may_collide
 from granum.kernels.schedule import block_queue, next_block, queue_workers
 from granum.kernels.sorting import argsort_keys, lower_bound, median
-from granum.kernels.static import static_value
+from granum.kernels.static import Static, static_value
 from granum.physics.vec import load3, load4, quat_angle, quat_mul, sub
 
 
@@ -474,17 +475,26 @@ def _cell_pairs(cell, S, nb, avoid_self):
     return aperiodic
 
 
+class ColliderParams(NamedTuple):
+    """Parameters of :func:`collider_stage` (InsertionSortCollider)."""
+
+    bound_code: np.ndarray  #: bound functor code per shape kind (-1: none), (NKINDS,) int32
+    bound_tab: tuple        #: the bound functors' table (:func:`granum.engines.functors.functor_table`)
+    verlet_dist: float      #: Verlet distance [m]; negative: that fraction of the smallest sphere radius
+    avoid_self: int         #: YADE's avoidSelfInteractionMask
+    cell: Static            #: ``("cell", periodic)`` of the scene: compiles one broad phase (:func:`cell_pairs`)
+
+
 @jit
 def collider_stage(S, C, P):
-    """Engine stage of InsertionSortCollider; P = (bound_code, bound_tab, verlet_dist, avoid_self_mask, cell),
-    ``cell`` the static ``("cell", periodic)`` of the scene (see :func:`cell_pairs`)."""
-    bound_code, bound_tab, verlet_dist, avoid_self, cell = P
+    """Engine stage of InsertionSortCollider; ``P``: :class:`ColliderParams`."""
+    bound_code, bound_tab = P.bound_code, P.bound_tab
     nb = S.iscal[SI_NBODIES]
     periodic = S.iscal[SI_PERIODIC] != 0
     R = raw(S)  # loops over bodies read the scene through a raw view (see granum.core.records)
     if C.ctr[C_COLLIDE] == 0 and not any_body_moved(R, nb) and not (periodic and cell_moved(S, S.scal[S_VERLET])):
         return
-    verlet = verlet_dist
+    verlet = P.verlet_dist
     if verlet < 0.0:
         rmin = math.inf
         for i in range(nb):
@@ -507,7 +517,7 @@ def collider_stage(S, C, P):
         # bodies and the cell share the Verlet budget: each may use half of it
         S.scal[S_VERLET] = 0.5 * verlet
         copy_rows(S.cell_bound_hsize, S.cell_hsize, 3)
-    pairs, start, cells, too_large = cell_pairs(cell, R, nb, avoid_self)
+    pairs, start, cells, too_large = cell_pairs(P.cell, R, nb, P.avoid_self)
     if too_large >= 0:
         C.ctr[C_STATUS] = STATUS_TOO_LARGE
         C.ctr[C_ERR_A] = too_large

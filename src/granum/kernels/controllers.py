@@ -21,6 +21,7 @@ logarithmic strain eps_k = ln F_kk. Per step:
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -39,6 +40,23 @@ O_STIFF = 9         # 9..11 stiffness modulus [Pa]
 O_TENSOR = 12       # 12..20 stress tensor, row by row [Pa]
 O_UNBALANCED = 21   # unbalanced force [-]
 O_SIZE = 22
+
+
+class PeriTriaxParams(NamedTuple):
+    """Parameters of :func:`peri_triax_stage` (PeriTriaxController's attributes of the same meaning)."""
+
+    goal: np.ndarray        #: goal stress [Pa] or log strain [-] per axis, (3,) float64
+    stress_mask: int        #: bit k set: axis k is stress-controlled
+    max_rate: np.ndarray    #: largest strain rate per axis [1/s], (3,) float64
+    max_unbalanced: float   #: largest unbalanced force for the goal to count as reached [-]
+    abs_tol: float          #: absolute stress tolerance [Pa]
+    rel_tol: float          #: relative stress tolerance [-]
+    grow_damping: float     #: damping of the cell's motion [-]
+    glob_update: int        #: the stress is recomputed every this many steps
+    dyn_cell: bool          #: the cell obeys an equation of motion with mass ``mass``
+    mass: float             #: mass of the cell [kg]
+    hook_id: int            #: what the stage writes to ``iscal[SI_HOOK]`` when the goal is reached
+    out: np.ndarray         #: the controller's output, slots O_*, (O_SIZE,) float64; written by the stage
 
 
 @jit
@@ -87,26 +105,25 @@ def contact_stress(S, C, out):
 def peri_triax_stage(S, C, P):
     """Engine stage of PeriTriaxController (see the module docstring for the servo).
 
-    P = (goal (3,), stress_mask, max_rate (3,), max_unbalanced, abs_tol, rel_tol, grow_damping,
-    glob_update, dyn_cell, mass [kg], hook_id, out (O_SIZE,)).
+    ``P``: :class:`PeriTriaxParams`.
     """
-    goal, mask, max_rate, max_unb, abs_tol, rel_tol, grow_damp, glob_update, dyn_cell, mass, hook_id, out = P
+    goal, max_rate, grow_damp, out = P.goal, P.max_rate, P.grow_damping, P.out
     dt = S.scal[S_DT]
-    if glob_update <= 1 or S.iscal[SI_ITER] % glob_update == 0 or not out[O_UNBALANCED] == out[O_UNBALANCED]:
+    if P.glob_update <= 1 or S.iscal[SI_ITER] % P.glob_update == 0 or not out[O_UNBALANCED] == out[O_UNBALANCED]:
         vol = contact_stress(S, C, out)
     else:
         vol = det3(S.cell_hsize)
-    done = out[O_UNBALANCED] < max_unb
+    done = out[O_UNBALANCED] < P.max_unbalanced
     for k in range(3):
         out[O_STRAIN + k] = math.log(S.cell_trsf[k, k])
         size = math.sqrt(S.cell_hsize[0, k] ** 2 + S.cell_hsize[1, k] ** 2 + S.cell_hsize[2, k] ** 2)
         rate = S.cell_velgrad[k, k]
-        if mask >> k & 1:
+        if P.stress_mask >> k & 1:
             err = goal[k] - out[O_STRESS + k]
-            if abs(err) > max(abs_tol, rel_tol * abs(goal[k])):
+            if abs(err) > max(P.abs_tol, P.rel_tol * abs(goal[k])):
                 done = False
-            if dyn_cell:
-                acc = err * (vol / size) / mass
+            if P.dyn_cell:
+                acc = err * (vol / size) / P.mass
                 v = rate * size
                 if acc * v > 0.0:
                     acc *= 1.0 - grow_damp
@@ -126,4 +143,4 @@ def peri_triax_stage(S, C, P):
         S.cell_velgrad[k, k] = rate
         out[O_RATE + k] = rate
     if done:
-        S.iscal[SI_HOOK] = hook_id
+        S.iscal[SI_HOOK] = P.hook_id

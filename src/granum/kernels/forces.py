@@ -6,6 +6,10 @@ Each writes only the rows of its own bodies, in parallel over blocks of bodies.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
+import numpy as np
+
 from granum._jit import BLOCK, PARALLEL_THRESHOLD, jit, kernel, prange
 from granum.core.arrays import E_GRAV_WORK, S_DT, SI_NBODIES, SI_TRACK_ENERGY
 from granum.core.records import raw
@@ -49,10 +53,17 @@ def reset_stage(S, C, P):
         reset_par(raw(S), nb)
 
 
+class GravityParams(NamedTuple):
+    """Parameters of :func:`gravity_stage` (GravityEngine)."""
+
+    gravity: np.ndarray  #: gravitational acceleration [m/s^2], (3,) float64
+    mask: int            #: only bodies sharing a bit with this mask (0: all)
+
+
 @jit
 def gravity_stage(S, C, P):
-    """GravityEngine: F += m g on bodies whose mask matches; P = (gravity (3,), mask)."""
-    gravity, mask = P
+    """GravityEngine: F += m g on bodies whose mask matches; ``P``: :class:`GravityParams`."""
+    gravity, mask = P.gravity, P.mask
     nb = S.iscal[SI_NBODIES]
     dt = S.scal[S_DT]
     # columns read once: a field read from the record counts a reference, and a store would reload it
@@ -68,11 +79,18 @@ def gravity_stage(S, C, P):
         S.energy_set[E_GRAV_WORK] = 1
 
 
+class ForceParams(NamedTuple):
+    """Parameters of :func:`force_stage` (ForceEngine)."""
+
+    ids: np.ndarray    #: the bodies, (n,) int64
+    force: np.ndarray  #: force added to each [N], (3,) float64
+
+
 @jit
 def force_stage(S, C, P):
-    """ForceEngine: F += force on the listed bodies; P = (ids, force (3,))."""
-    ids, force = P
-    for i in ids:
+    """ForceEngine: F += force on the listed bodies; ``P``: :class:`ForceParams`."""
+    force = P.force
+    for i in P.ids:
         for k in range(3):
             S.force[i, k] += force[k]
 
@@ -82,18 +100,26 @@ def force_stage(S, C, P):
 K_VEL, K_AXIS, K_SPEED, K_ZERO, K_ORBIT, K_COLS = 0, 3, 6, 7, 10, 11
 
 
+class KinematicParams(NamedTuple):
+    """Parameters of :func:`kinematic_stage`."""
+
+    ids: np.ndarray     #: the bodies, (n,) int64
+    parts: np.ndarray   #: one row per part, in order, (K, K_COLS) float64
+    turned: np.ndarray  #: angle each part turned so far [rad], (K,) float64; the stage adds to it
+
+
 @jit
 def kinematic_stage(S, C, P):
     """Kinematic engines (YADE's KinematicEngine: TranslationEngine, RotationEngine, HelixEngine and their
     combinations): the velocity and angular velocity of the listed bodies are reset, then each part adds its
     own motion, in order.
 
-    P = (ids, parts (K, K_COLS), turned (K,)). Part k adds to every listed body
+    ``P``: :class:`KinematicParams`. Part k adds to every listed body
     vel += velocity_k, angVel += speed_k axis_k and, if it orbits, the chord of the circle about the axis
     through zero_k, vel += (R(speed_k dt, axis_k)(x - zero_k) + zero_k - x) / dt, which puts the body on
     the circle after the step; turned[k] += speed_k dt [rad] (HelixEngine.angleTurned).
     """
-    ids, parts, turned = P
+    ids, parts, turned = P.ids, P.parts, P.turned
     dt = S.scal[S_DT]
     vel, ang_vel, pos = S.vel, S.ang_vel, S.pos  # read once: a store could make the loop reload them
     for i in ids:

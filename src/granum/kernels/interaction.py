@@ -19,6 +19,7 @@ Each step:
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -371,15 +372,36 @@ def create_contacts(S, C, geom_code, geom_swap, geom_type, phys_code, phys_swap,
                 return
 
 
+class InteractionParams(NamedTuple):
+    """Parameters of :func:`interaction_stage` and :func:`create_contact_now` (InteractionLoop): its dispatch
+    tables (:meth:`granum.engines.pipeline.InteractionLoop.tables`) and functor tables
+    (:func:`granum.engines.functors.functor_table`)."""
+
+    geom_code: np.ndarray  #: Ig2 functor code per pair of shape kinds (-1: none), (NKINDS, NKINDS) int32
+    geom_swap: np.ndarray  #: 1 where the functor takes the two bodies in the other order, (NKINDS, NKINDS) uint8
+    geom_tab: tuple        #: the Ig2 functors' table
+    geom_type: np.ndarray  #: IGeom type code each Ig2 functor produces, (geom functors,) int32
+    phys_code: np.ndarray  #: Ip2 functor code per pair of material kinds (-1: none), (M kinds, M kinds) int32
+    phys_swap: np.ndarray  #: 1 where the functor takes the two materials in the other order, uint8
+    phys_tab: tuple        #: the Ip2 functors' table
+    phys_type: np.ndarray  #: IPhys type code each Ip2 functor produces, (phys functors,) int32
+    law_code: np.ndarray   #: Law2 functor code per (IGeom type, IPhys type) (-1: none), int32
+    law_tab: tuple         #: the Law2 functors' table
+    pair_ok: np.ndarray    #: Ig2 per pair of shape kinds: 1 listed, 2 only unlisted ones, 0 none; (NKINDS, NKINDS) int8
+    width: int             #: ``con_f`` columns the functors use (and the energy columns while O.trackEnergy)
+
+
 @jit
 def create_contact_now(S, C, a, b, P):
-    """Make bodies a and b interact now, whatever their distance (``utils.createInteraction``).
+    """Make bodies a and b interact now, whatever their distance (``utils.createInteraction``); ``P``:
+    :class:`InteractionParams`.
 
     The geometry and physics are computed immediately; the law acts from the next step.
     """
-    (geom_code, geom_swap, geom_tab, geom_type, phys_code, phys_swap, phys_tab, phys_type, law_code, law_tab, pair_ok,
-     width) = P
-    widen_contacts(C, width)
+    geom_code, geom_swap, geom_tab, geom_type = P.geom_code, P.geom_swap, P.geom_tab, P.geom_type
+    phys_code, phys_swap, phys_tab, phys_type = P.phys_code, P.phys_swap, P.phys_tab, P.phys_type
+    law_code = P.law_code
+    widen_contacts(C, P.width)
     lo = min(a, b)
     hi = max(a, b)
     p = -1
@@ -631,15 +653,14 @@ def contact_energy(S, C):
 def interaction_stage(S, C, P):
     """Engine stage of InteractionLoop.
 
-    P = (geom_code, geom_swap, geom_tab, geom_type, phys_code, phys_swap, phys_tab,
-    phys_type, law_code, law_tab, pair_ok, width); see :mod:`granum.engines.pipeline`.
-    ``width``: the ``con_f`` columns the loop's functors use, and the energy columns when
-    O.trackEnergy (:meth:`granum.engines.pipeline.InteractionLoop.params`); a narrower pool
-    is widened first.
+    ``P``: :class:`InteractionParams`. ``P.width``: the ``con_f`` columns the loop's functors use, and the
+    energy columns when O.trackEnergy (:meth:`granum.engines.pipeline.InteractionLoop.params`); a narrower
+    pool is widened first.
     """
-    (geom_code, geom_swap, geom_tab, geom_type, phys_code, phys_swap, phys_tab, phys_type, law_code, law_tab, pair_ok,
-     width) = P
-    widen_contacts(C, width)
+    geom_code, geom_swap, geom_tab, geom_type = P.geom_code, P.geom_swap, P.geom_tab, P.geom_type
+    phys_code, phys_swap, phys_tab, phys_type = P.phys_code, P.phys_swap, P.phys_tab, P.phys_type
+    law_code, law_tab, pair_ok = P.law_code, P.law_tab, P.pair_ok
+    widen_contacts(C, P.width)
     nb = S.iscal[SI_NBODIES]
     R = raw(S)  # hot loops read the records through raw views (see granum.core.records)
     V = raw(C)

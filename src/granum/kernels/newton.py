@@ -21,6 +21,7 @@ combined serially, so results do not depend on the number of threads.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -258,10 +259,18 @@ def _newton_blocks(S, nb, gravity, damping, damp_gravity, sums, bad):
 newton_blocks, newton_blocks_par = kernel(_newton_blocks)
 
 
+class NewtonParams(NamedTuple):
+    """Parameters of :func:`newton_stage` (NewtonIntegrator)."""
+
+    gravity: np.ndarray  #: gravitational acceleration [m/s^2], (3,) float64
+    damping: float       #: Cundall's non-viscous damping [-]
+    damp_gravity: bool   #: damping acts on the whole acceleration, gravity included
+
+
 @jit
 def newton_stage(S, C, P):
-    """Engine stage of NewtonIntegrator; P = (gravity (3,) [m/s^2], damping [-], damp_gravity)."""
-    gravity, damping, damp_gravity = P
+    """Engine stage of NewtonIntegrator; ``P``: :class:`NewtonParams`."""
+    gravity, damping, damp_gravity = P.gravity, P.damping, P.damp_gravity
     nb = S.iscal[SI_NBODIES]
     nblocks = (nb + BLOCK - 1) // BLOCK
     sums = np.zeros((nblocks, 3))

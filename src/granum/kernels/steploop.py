@@ -23,7 +23,7 @@ link and optimise the code of every stage into it once more.
 With ``timing`` (``O.timingEnabled``) each stage adds its run time [ns] and one run to
 its row of ``times`` (int64, (stages, 2)), in engine order.
 
-``PP`` is the tuple of the stages' parameter tuples, in engine order. Both functions
+``PP`` is the tuple of the stages' parameters (named tuples), in engine order. Both functions
 borrow its arrays (:func:`granum.core.records.borrow`; the Python caller owns them),
 so that passing parameters down to parallel loops counts no references.
 """
