@@ -107,11 +107,16 @@ def contact_width(groups) -> int:
 
 F_E_ELAST = register_history("energy", 2)  # elastic energy stored in the contact [J] (O.trackEnergy)
 F_E_DISSIP = F_E_ELAST + 1                  # energy dissipated by friction during this step [J]
+#: moment on body 2 that is not arm x force (bending, twisting, rolling resistance) [N m]; body 1 gets the
+#: opposite. Written by the laws that name the group "moment" in their history; the force gather adds it to
+#: both bodies' torques only in plans whose laws do (granum.kernels.interaction.gather_body).
+F_MOMENT = register_history("moment", 3)
 
 FLAG_ALIVE = 1     # the row holds a live contact
 FLAG_NEW = 2       # physics constants not computed yet
 FLAG_RATCHET = 4   # shear laws use the anti-ratcheting relative velocity (ScGeom)
 FLAG_RADIAL_ARMS = 16  # torques use the lever arms (R_i - delta/2) n instead of C - x_i (YADE sphericalBodies)
+FLAG_PHYS_AGAIN = 32   # run the physics functor of this existing contact at the next step (e.g. setCohesionNow)
 
 # ---- counters in ctr ---------------------------------------------------------------
 C_PAIRS = 0        # number of potential pairs

@@ -6,6 +6,8 @@ compiled function. One class is generated per registered functor, named as in YA
 
 from __future__ import annotations
 
+import importlib
+
 import numpy as np
 
 from granum.core.attrs import Attr, Attributed, to_str
@@ -32,6 +34,10 @@ class Functor(Attributed):
                 raise NotImplementedError(f"{type(self).__name__}.{p.name}={value!r} is not supported by granum "
                                           f"yet (only the default {p.default!r})")
         return [float(getattr(self, p.name)) for p in compiled]
+
+    def prepare(self, scene) -> None:
+        """Called by the engine listing the functor when it builds its parameters, before a run of ``scene``
+        (a functor's mixin, ``registry.Functor.python``, may act on the scene then); nothing by default."""
 
 
 class BoundFunctor(Functor):
@@ -66,8 +72,11 @@ def _convert_like(default):
 def make_class(spec: registry.Functor) -> type:
     """The YADE-named class of a registered functor."""
     attrs = {p.name: Attr(p.default, p.doc, _convert_like(p.default)) for p in spec.params}
-    return type(spec.yade_name, (_BASES[spec.role],), {"_attrs": attrs, "spec": spec, "__doc__": spec.doc,
-                                                          "__module__": __name__})
+    bases = (_BASES[spec.role],)
+    if spec.python:   # a mixin with the functor's Python side (see registry.Functor.python)
+        module, name = spec.python.split(":")
+        bases = (getattr(importlib.import_module(module), name),) + bases
+    return type(spec.yade_name, bases, {"_attrs": attrs, "spec": spec, "__doc__": spec.doc, "__module__": __name__})
 
 
 CLASSES = {name: make_class(spec) for name, spec in registry.FUNCTORS.items()}

@@ -207,6 +207,8 @@ class InteractionLoop(GlobalEngine):
         return {name: a.copy() for name, a in _dispatch_tables(*key, len(registry.MATERIALS)).items()}
 
     def params(self, scene, engines) -> InteractionParams:
+        for f in self.functors():
+            f.prepare(scene)
         t = self.tables(scene)
         geom_tab = functor_table("geom", self.geomDispatcher.functors, scene.contact_functors("geom"))
         # pairs skip detection on budgets computed with these functors (see interaction.detect_pair)

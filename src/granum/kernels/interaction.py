@@ -22,6 +22,7 @@ import math
 from typing import NamedTuple
 
 import numpy as np
+from numba.extending import overload
 
 from granum._jit import BLOCK, PARALLEL_THRESHOLD, PARALLEL_THRESHOLD_CONTACTS, jit, kernel, prange
 from granum.core.arrays import (
@@ -44,6 +45,7 @@ from granum.core.contacts import (
     F_E_ELAST,
     F_FN,
     F_FS,
+    F_MOMENT,
     F_NORMAL,
     F_PEN,
     F_POINT,
@@ -51,6 +53,7 @@ from granum.core.contacts import (
     F_R2,
     FLAG_ALIVE,
     FLAG_NEW,
+    FLAG_PHYS_AGAIN,
     FLAG_RADIAL_ARMS,
     I_BORN,
     I_CELL,
@@ -68,9 +71,10 @@ from granum.core.contacts import (
 from granum.core.records import borrow, raw
 from granum.kernels.collider import body_displacement
 from granum.kernels.copy import copy_row, copy_rows
-from granum.kernels.dispatch import geom_call, law_call, phys_call
+from granum.kernels.dispatch import functors, geom_call, law_call, phys_call
 from granum.kernels.prefetch import prefetch_row
 from granum.kernels.schedule import block_queue, next_block, queue_workers
+from granum.kernels.static import static_value
 from granum.physics.scgeom import contact_shift, scgeom_incident_vel
 from granum.physics.vec import add, cross, inv3, load3, matvec, scale, sub
 
@@ -430,14 +434,15 @@ def contact_geometry(c, S, C, geom_tab):
 
 @jit
 def contact_physics(c, id1, id2, S, C, phys_tab):
-    """IPhys of new contact ``c`` (once, in the functor's body order); clears its FLAG_NEW.
+    """IPhys of new contact ``c`` (once, in the functor's body order), or again for an existing one that asked
+    for it (``FLAG_PHYS_AGAIN``: the functor sees FLAG_NEW clear); clears both flags.
 
     A call of its own (not inlined): it runs once per contact, and one call site keeps the
     physics functors compiled once."""
     if C.con_i[c, I_FLAGS] & FLAG_PHYS_SWAP:
         id1, id2 = id2, id1
     phys_call(C.con_i[c, I_PHYS], c, id1, id2, S, C, phys_tab)
-    C.con_i[c, I_FLAGS] &= ~FLAG_NEW
+    C.con_i[c, I_FLAGS] &= ~(FLAG_NEW | FLAG_PHYS_AGAIN)
 
 
 @jit(inline="always")  # once per contact: no call (see granum.kernels.dispatch)
@@ -447,7 +452,7 @@ def update_contact(c, S, C, geom_tab, phys_tab, law_tab, died):
     if not flags & FLAG_ALIVE:
         return
     id1, id2 = contact_geometry(c, S, C, geom_tab)
-    if C.con_i[c, I_FLAGS] & FLAG_NEW:
+    if C.con_i[c, I_FLAGS] & (FLAG_NEW | FLAG_PHYS_AGAIN):
         contact_physics(c, id1, id2, S, C, phys_tab)
     law = C.con_i[c, I_LAW]
     if law < 0:   # made real by createInteraction while the InteractionLoop had no law for it
@@ -540,9 +545,28 @@ def build_csr(C, nb):
     C.ctr[C_CSR_DIRTY] = 0
 
 
+def plan_moments(laws):
+    """Whether a law of the functor set ``laws`` (the static first item of a law table) writes contact moments
+    (the history group "moment", :data:`granum.core.contacts.F_MOMENT`): a constant of the compiled code, so
+    that the force gather of a plan without such a law compiles to what it was before moments existed.
+    Compiled code only."""
+    raise TypeError("plan_moments is called from compiled kernels only")
+
+
+@overload(plan_moments, inline="always")
+def _plan_moments(laws):
+    value = static_value(laws, "functors")
+    registered = functors("law")
+    if value is not None and any("moment" in registered[k].history for k in value[2]):
+        return lambda laws: True
+    return lambda laws: False
+
+
 @jit
-def gather_body(i, S, C):
-    """Add the forces and torques of body ``i``'s contacts to it, in increasing contact order."""
+def gather_body(i, S, C, laws):
+    """Add the forces and torques of body ``i``'s contacts to it, in increasing contact order; when a law of
+    the functor set ``laws`` writes moments (:func:`plan_moments`), also each contact's moment (on body 2, the
+    opposite on body 1). ``laws`` is a static value, no array: a call per body counts no reference."""
     a = C.csr_start[i]
     b = C.csr_start[i + 1]
     if a == b:
@@ -571,6 +595,9 @@ def gather_body(i, S, C):
         if not second:
             f = (-f[0], -f[1], -f[2])
         t = cross(arm, f)
+        if plan_moments(laws):
+            m = load3_row(C.con_f, c, F_MOMENT)
+            t = add(t, m) if second else sub(t, m)
         fx += f[0]
         fy += f[1]
         fz += f[2]
@@ -594,22 +621,22 @@ def prefetch_contacts(i, C):
 
 
 @jit
-def gather_block(b, S, C, nb, ahead):
+def gather_block(b, S, C, nb, ahead, laws):
     """Bodies of block ``b``; with ``ahead`` > 0, each while the rows of the body ``ahead`` later are on
     their way."""
     end = min(nb, (b + 1) * BLOCK)
     for i in range(b * BLOCK, end):
         if ahead and i + ahead < end:
             prefetch_contacts(i + ahead, C)
-        gather_body(i, S, C)
+        gather_body(i, S, C, laws)
 
 
-def _gather(S, C, nb, ahead):
+def _gather(S, C, nb, ahead, laws):
     queue = block_queue((nb + BLOCK - 1) // BLOCK)
     for w in prange(queue_workers(queue)):
         b = next_block(queue, w, -1)
         while b >= 0:
-            gather_block(b, S, C, nb, ahead)
+            gather_block(b, S, C, nb, ahead, laws)
             b = next_block(queue, w, b)
 
 
@@ -694,8 +721,8 @@ def interaction_stage(S, C, P):
     # a pool that caches cannot hold is read from memory: prefetch (in cache, it would only cost instructions)
     ahead = GATHER_AHEAD if V.ctr[C_CONTACTS] * V.con_f.shape[1] * V.con_f.itemsize >= GATHER_PREFETCH_BYTES else 0
     if nb < PARALLEL_THRESHOLD:
-        gather(R, V, nb, ahead)
+        gather(R, V, nb, ahead, law_tab[0])
     else:
-        gather_par(R, V, nb, ahead)
+        gather_par(R, V, nb, ahead, law_tab[0])
     if S.iscal[SI_TRACK_ENERGY]:
         contact_energy(R, V)

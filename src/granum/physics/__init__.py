@@ -5,6 +5,8 @@ materials and the contact laws. A new contact law is a new module here plus one
 import line below.
 """
 
+import importlib
+
 from granum.physics import (  # noqa: F401  (imported for their registrations)
     box,
     facet,
@@ -16,3 +18,8 @@ from granum.physics import (  # noqa: F401  (imported for their registrations)
     viscel,
     wall,
 )
+
+# Registered after the others because the contact pool's history columns come in registration order: a plan
+# is as wide as the last group it uses, so these laws' groups (ScGeom6D, cohesion) come after the older ones
+# and leave their pools as narrow as they were.
+importlib.import_module("granum.physics.cohfrict")   # ScGeom6D (physics.scgeom6d) and the cohesive law

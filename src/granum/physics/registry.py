@@ -50,8 +50,9 @@ class TypeInfo:
     """A named type in a YADE class hierarchy (IGeom or IPhys).
 
     ``fields`` maps the YADE attribute names the type adds to its parent to
-    ``(first float column of the contact pool, width)``, width 1 (a float), 3 (a Vector3) or 9 (a Matrix3,
-    row by row); the YADE views of interactions (``i.geom``, ``i.phys``) are generated from them.
+    ``(first float column of the contact pool, width)``, width 1 (a float; ``(column, 1, "bool")``: a flag
+    stored as 0/1), 3 (a Vector3), 4 (a Quaternion, w x y z) or 9 (a Matrix3, row by row); the YADE views of
+    interactions (``i.geom``, ``i.phys``) are generated from them.
     """
 
     name: str
@@ -65,7 +66,8 @@ class Range:
     """The values a float parameter may take for its law to stay physical.
 
     A value must be finite and lie between ``low`` and ``high`` (excluded when ``low_open`` /
-    ``high_open``); ``why`` says, for the error message, what goes wrong outside.
+    ``high_open``), or be one of the values ``also`` (a sentinel such as YADE's -1 for "none"); ``why``
+    says, for the error message, what goes wrong outside.
     """
 
     low: float = -math.inf
@@ -73,12 +75,13 @@ class Range:
     low_open: bool = False
     high_open: bool = False
     why: str = ""
+    also: tuple[float, ...] = ()
 
     def holds(self, x: float) -> bool:
-        """Whether ``x`` lies in the range (NaN and infinities never do)."""
+        """Whether ``x`` lies in the range or is one of ``also`` (NaN and infinities never do)."""
         above = x > self.low if self.low_open else x >= self.low
         below = x < self.high if self.high_open else x <= self.high
-        return math.isfinite(x) and above and below
+        return math.isfinite(x) and (above and below or x in self.also)
 
     def says(self) -> str:
         """The requirement, as the end of a sentence naming the value ("must be finite and >= 0")."""
@@ -87,7 +90,8 @@ class Range:
             parts.append(f"{'>' if self.low_open else '>='} {self.low:g}")
         if self.high < math.inf:
             parts.append(f"{'<' if self.high_open else '<='} {self.high:g}")
-        return "must be finite" + (" and " + " and ".join(parts) if parts else "")
+        others = "".join(f" or {v:g}" for v in self.also)
+        return "must be finite" + (" and " + " and ".join(parts) if parts else "") + others
 
 
 @dataclass(frozen=True)
@@ -149,6 +153,10 @@ class Functor:
             compiled into the dispatch like the built-in ones; None for granum's functors, which ``func``
             names.
         digest: for such a function, :func:`code_digest` of it: the compiled code is cached under it.
+        python: ``"module:Class"`` of a mixin the generated YADE class derives from, for a functor whose
+            Python side does more than hold parameters: its ``prepare(scene)`` runs when an engine builds
+            its parameters before a run, and it may override ``numeric_params`` (e.g.
+            ``Ip2_CohFrictMat_CohFrictMat_CohFrictPhys.setCohesionNow`` acts at one step). Empty: none.
     """
 
     yade_name: str
@@ -161,6 +169,7 @@ class Functor:
     history: tuple[str, ...] = ()
     function: Callable | None = field(default=None, compare=False, repr=False)
     digest: str = ""
+    python: str = ""
 
     def compiled_params(self) -> tuple[Param, ...]:
         """The parameters compiled code receives in its row ``prm``, in this order: the supported ones

@@ -26,7 +26,7 @@ from granum.core.contacts import (
     end_contact,
 )
 from granum.kernels.dispatch import functors
-from granum.mathtypes import Matrix3, Vector3, Vector3i
+from granum.mathtypes import Matrix3, Quaternion, Vector3, Vector3i
 from granum.physics import registry
 from granum.yade._pausing import pauses_the_run
 
@@ -56,7 +56,8 @@ def find_contact(C, a: int, b: int) -> int:
 
 
 class _ContactView:
-    """Attributes mapped onto float columns of one contact row (see TypeInfo.fields)."""
+    """Attributes mapped onto float columns of one contact row (see TypeInfo.fields): a float (width 1; a
+    ``(column, 1, "bool")`` field reads as a bool), a Vector3 (3), a Quaternion (4, w x y z) or a Matrix3 (9)."""
 
     __slots__ = ("_intr",)
     _fields: dict = {}
@@ -70,24 +71,28 @@ class _ContactView:
         f = type(self)._fields.get(name)
         if f is None:
             raise AttributeError(f"{type(self).__name__} has no attribute {name!r}")
-        col, width = f
+        col, width = f[:2]
         row = self._intr._row_or_raise()
         a = self._intr._scene.contacts.con_f
         if width == 1:
-            return float(a[row, col])
+            return bool(a[row, col]) if f[2:] == ("bool",) else float(a[row, col])
         if width == 9:
             return Matrix3._wrap(a[row, col:col + 9].reshape(3, 3))
+        if width == 4:
+            return Quaternion._wrap(a[row, col:col + 4])
         return Vector3._wrap(a[row, col:col + 3])
 
     def __setattr__(self, name, value):
         f = type(self)._fields.get(name)
         if f is None:
             raise AttributeError(f"{type(self).__name__} has no attribute {name!r}")
-        col, width = f
+        col, width = f[:2]
         row = self._intr._row_or_raise()
         a = self._intr._scene.contacts.con_f
         if width == 1:
             a[row, col] = float(value)
+        elif width == 4:
+            a[row, col:col + 4] = Quaternion(value)._a
         else:
             a[row, col:col + width] = np.asarray(value, dtype=float).reshape(width)
 
