@@ -4,7 +4,9 @@
 # so that every sphere overlaps its 6 neighbours slightly, confined by a closed
 # geom.facetBox whose walls overlap the outer spheres by the same amount (r*1e-3).
 # FrictMat(young=1e8, poisson=0.3, frictionAngle=30 deg, density=2600), Cundall-Strack
-# chain, NewtonIntegrator(damping=0.2, gravity -z), O.dt = 0.5*PWaveTimeStep().
+# chain (BENCH_LAW=mindlin: Hertz-Mindlin, Ip2_FrictMat_FrictMat_MindlinPhys and
+# Law2_ScGeom_MindlinPhys_Mindlin with their defaults), NewtonIntegrator(damping=0.2, gravity -z),
+# O.dt = 0.5*PWaveTimeStep().
 # At n = 20: 8,000 spheres and about 25,000 contacts (3 n^2 (n-1) sphere-sphere + walls).
 #
 # Runs unmodified with `granum -jN dense_lattice.py` and `yade -n -x -jN dense_lattice.py`.
@@ -12,7 +14,8 @@
 # BENCH_WARMUP (default 1) untimed steps before them, BENCH_DUMP=path: after the run,
 # write the sphere positions to path (one line "x y z" per sphere, %.17g) to check
 # bitwise determinism across thread counts and runs. BENCH_NAME overrides the name
-# printed (benchmarks/run uses scaling_N).
+# printed (benchmarks/run uses scaling_N and dense_lattice_mindlin). BENCH_LAW: the contact law
+# (mindlin; user: Cundall-Strack as a user's law, granum only).
 # Prints one line:  BENCH name=dense_lattice ...
 
 import os
@@ -42,17 +45,19 @@ half = 0.5 * (n - 1) * s + r * (1 - overlap)
 c = r + 0.5 * (n - 1) * s
 O.bodies.append(geom.facetBox((c, c, c), (half, half, half), material=mat))
 
-law = Law2_ScGeom_FrictPhys_CundallStrack()
+ip2, law = Ip2_FrictMat_FrictMat_FrictPhys(), Law2_ScGeom_FrictPhys_CundallStrack()
 if os.environ.get('BENCH_LAW', '') == 'user':  # granum only: the same law written as a user's law
     from user_cundall_strack import Law2_ScGeom_FrictPhys_UserCundallStrack
     law = Law2_ScGeom_FrictPhys_UserCundallStrack()
+elif os.environ.get('BENCH_LAW', '') == 'mindlin':  # Hertz-Mindlin (granum and YADE)
+    ip2, law = Ip2_FrictMat_FrictMat_MindlinPhys(), Law2_ScGeom_MindlinPhys_Mindlin()
 
 O.engines = [
     ForceResetter(),
     InsertionSortCollider([Bo1_Sphere_Aabb(), Bo1_Facet_Aabb()]),
     InteractionLoop(
         [Ig2_Sphere_Sphere_ScGeom(), Ig2_Facet_Sphere_ScGeom()],
-        [Ip2_FrictMat_FrictMat_FrictPhys()],
+        [ip2],
         [law],
     ),
     NewtonIntegrator(damping=0.2, gravity=(0, 0, -9.81)),

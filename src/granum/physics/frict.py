@@ -103,14 +103,14 @@ def law_cundall_strack(c, id1, id2, S, C, prm):
 
     F_N and F_T act on body 2 (body 1 gets the opposite). Delta u_T is the tangential
     relative displacement of the step, rot() carries the shear force into the new
-    tangent plane. The contact ends when delta < 0 unless ``neverErase`` (prm[0]).
+    tangent plane. The contact ends when delta < 0 unless ``neverErase`` (prm[NEVER_ERASE]).
     Energies: elastic (|F_N|^2/k_n + |F_T|^2/k_s)/2 and, on slip, the dissipation
     (F_T^trial - F_T)/k_s . F_T.
     """
     f = C.con_f
     pen = f[c, F_PEN]
     if pen < 0.0:
-        if prm[0] == 0.0:
+        if prm[NEVER_ERASE] == 0.0:
             return False
         for k in range(6):
             f[c, F_FN + k] = 0.0
@@ -144,7 +144,7 @@ def law_cundall_strack(c, id1, id2, S, C, prm):
         f[c, F_E_ELAST] = elast
         f[c, F_E_DISSIP] = dissip
     # sphericalBodies: YADE's radial lever arms for the torques (stored once: see scgeom_write)
-    if prm[1] != 0.0 and not C.con_i[c, I_FLAGS] & FLAG_RADIAL_ARMS:
+    if prm[SPHERICAL_BODIES] != 0.0 and not C.con_i[c, I_FLAGS] & FLAG_RADIAL_ARMS:
         C.con_i[c, I_FLAGS] |= FLAG_RADIAL_ARMS
     return True
 
@@ -156,11 +156,15 @@ registry.register_functor(Functor(
      Param("ks", None, "Per-material-pair shear stiffness (MatchMaker; accepted)"),
      Param("frictAngle", None, "Per-material-pair friction angle (MatchMaker); None: min of the two")),
     phys_frict.py_func.__doc__))
-registry.register_functor(Functor(
+LAW_CS = Functor(
     "Law2_ScGeom_FrictPhys_CundallStrack", "law", ("ScGeom", "FrictPhys"), None,
     f"{__name__}:law_cundall_strack",
     (Param("neverErase", False, "Keep contacts whose penetration became negative [-]"),
      Param("sphericalBodies", True,
            "Torques with lever arms (R_i - delta/2) along the normal (YADE); False: from the contact point [-]"),
      Param("traceEnergy", False, "Accepted for compatibility; energies follow O.trackEnergy [-]")),
-    law_cundall_strack.py_func.__doc__))
+    law_cundall_strack.py_func.__doc__)
+registry.register_functor(LAW_CS)
+#: places of Law2_ScGeom_FrictPhys_CundallStrack's parameters in its row ``prm``
+NEVER_ERASE = LAW_CS.slot("neverErase")
+SPHERICAL_BODIES = LAW_CS.slot("sphericalBodies")

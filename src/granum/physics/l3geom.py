@@ -110,8 +110,8 @@ def l3geom_spheres_like(c, id1, id2, shift, S, C, prm, n, point, un, r1, r2):
     displacement ``un`` = distance - (r1 + r2) [m], reference radii ``r1``, ``r2`` [m]).
 
     A new contact gets the frame of :func:`initial_frame`, u = (u_n, 0, 0) and u0 = (u_n, 0, 0) if
-    ``distFactor`` (prm[1]) < 0 (the initial distance is the equilibrium one), else 0. An existing one,
-    with the previous normal n0 and frame T0 (``approxMask`` = prm[3] bits in brackets):
+    ``distFactor`` (prm[DIST_FACTOR]) < 0 (the initial distance is the equilibrium one), else 0. An existing
+    one, with the previous normal n0 and frame T0 (``approxMask`` = prm[APPROX_MASK] bits in brackets):
 
     .. math::
         n_m = \\frac{n_0 + n}{|n_0 + n|}\\ [n_m = n_0 \\text{ if } 2;\\ \\text{not normalised if } 4],\\quad
@@ -125,10 +125,10 @@ def l3geom_spheres_like(c, id1, id2, shift, S, C, prm, n, point, un, r1, r2):
         T_m = \\mathrm{slerp}(q(T_0), q(T), 1/2)\\ [q(T_0) \\text{ if } 1],\\quad
         u \\leftarrow (u_n,\\ u_1 + (T_m v_r)_1 \\Delta t,\\ u_2 + (T_m v_r)_2 \\Delta t)
 
-    with branch vectors b1 = c - x1 and b2 = -r2 n (``noRatch``, prm[0]) or c - x2 (YADE 2023.02a's
+    with branch vectors b1 = c - x1 and b2 = -r2 n (``noRatch``, prm[NO_RATCH]) or c - x2 (YADE 2023.02a's
     arms: its documentation gives r1 n for b1 with ``noRatch``, its results c - x1); v_2 includes the
     periodic image's velocity; q(T) is the quaternion of T (:func:`quat_from_rows`, not normalised, as the
-    rotation matrix T_m is taken from). Every ``trsfRenorm`` (prm[2] > 0) steps, when the step counter is a
+    rotation matrix T_m is taken from). Every ``trsfRenorm`` (prm[TRSF_RENORM] > 0) steps, when the step counter is a
     multiple of it, the tangents are made orthonormal again (:func:`orthonormal_tangents`). Lever arms of the
     torques are (r_i + u_n/2) n, as YADE's L3Geom.
     """
@@ -139,14 +139,14 @@ def l3geom_spheres_like(c, id1, id2, shift, S, C, prm, n, point, un, r1, r2):
     f[c, F_PEN] = -un   # for the lever arms of the force gather (FLAG_RADIAL_ARMS)
     f[c, F_R1] = r1
     f[c, F_R2] = r2
-    approx = int(prm[3])
+    approx = int(prm[APPROX_MASK])
     if flags & FLAG_NEW:
         t1, t2 = initial_frame(n)
         store_row(f, c, L3_TRSF, n)
         store_row(f, c, L3_TRSF + 3, t1)
         store_row(f, c, L3_TRSF + 6, t2)
         store_row(f, c, L3_U, (un, 0.0, 0.0))
-        store_row(f, c, L3_U0, (un if prm[1] < 0.0 else 0.0, 0.0, 0.0))
+        store_row(f, c, L3_U0, (un if prm[DIST_FACTOR] < 0.0 else 0.0, 0.0, 0.0))
         if not flags & FLAG_RADIAL_ARMS:
             C.con_i[c, I_FLAGS] = flags | FLAG_RADIAL_ARMS
         return
@@ -166,13 +166,13 @@ def l3geom_spheres_like(c, id1, id2, shift, S, C, prm, n, point, un, r1, r2):
     twist = scale(mid_n, dot(mid_n, scale(add(w1, w2), 0.5)) * dt)
     _, shift_vel = contact_shift(c, S, C)
     b1 = sub(point, load3(S.pos, id1))
-    b2 = scale(n, -r2) if prm[0] != 0.0 else sub(point, add(load3(S.pos, id2), shift))
+    b2 = scale(n, -r2) if prm[NO_RATCH] != 0.0 else sub(point, add(load3(S.pos, id2), shift))
     v2 = add(add(load3(S.vel, id2), shift_vel), cross(w2, b2))
     vr = sub(v2, add(load3(S.vel, id1), cross(w1, b1)))
     vr = sub(vr, scale(mid_n, dot(mid_n, vr)))
     t1 = sub(prev1, add(cross(prev1, rot), cross(prev1, twist)))
     t2 = sub(prev2, add(cross(prev2, rot), cross(prev2, twist)))
-    renorm = int(prm[2])
+    renorm = int(prm[TRSF_RENORM])
     if renorm > 0 and S.iscal[SI_ITER] % renorm == 0:
         t1, t2 = orthonormal_tangents(n, t1)
     mid_q = quat_from_rows(n0, prev1, prev2)
@@ -195,12 +195,13 @@ def geom_sphere_sphere_l3(c, id1, id2, shift, S, C, prm):
         u_n = |x_2 - x_1| - (r_1 + r_2),\\quad n = \\frac{x_2 - x_1}{|x_2 - x_1|},\\quad
         c = x_1 + (r_1 + u_n/2)\\, n
 
-    A potential pair becomes real when |x2 - x1| <= |f_d| (r1 + r2), f_d being ``distFactor`` (prm[1]);
+    A potential pair becomes real when |x2 - x1| <= |f_d| (r1 + r2), f_d being ``distFactor``
+    (prm[DIST_FACTOR]);
     detection (``c`` < 0) returns the separation |x2 - x1| - |f_d| (r1 + r2) [m].
     """
     r1, r2, p1, d, dist = sphere_pair(id1, id2, shift, S)
     if c < 0:
-        return dist - abs(prm[1]) * (r1 + r2)
+        return dist - abs(prm[DIST_FACTOR]) * (r1 + r2)
     un = dist - (r1 + r2)
     n = scale(d, 1.0 / dist)
     l3geom_spheres_like(c, id1, id2, shift, S, C, prm, n, add(p1, scale(n, r1 + 0.5 * un)), un, r1, r2)
@@ -216,8 +217,8 @@ def law_l3geom_elperfpl(c, id1, id2, S, C, prm):
         |F_t| \\le \\max(0, -F_n) \\tan\\varphi
 
     F [N] is the force on body 1 in the local frame T (F_n < 0 pushes the bodies apart); body 2 gets
-    -T^T F. The contact ends when (u - u0)_n > 0 unless ``noBreak`` (prm[0]). Past the Coulomb limit
-    (unless ``noSlip``, prm[1]) the shear is scaled back onto it by r = F_max/|F_t| and the excess
+    -T^T F. The contact ends when (u - u0)_n > 0 unless ``noBreak`` (prm[NO_BREAK]). Past the Coulomb limit
+    (unless ``noSlip``, prm[NO_SLIP]) the shear is scaled back onto it by r = F_max/|F_t| and the excess
     (1 - r)(u - u0)_t is added to u0 (plastic slip). Energies: elastic (F_n^2/k_n + |F_t|^2/k_s)/2,
     dissipated F_t . Delta u0_t per slip.
     """
@@ -225,7 +226,7 @@ def law_l3geom_elperfpl(c, id1, id2, S, C, prm):
     u = load_row(f, c, L3_U)
     u0 = load_row(f, c, L3_U0)
     rel = sub(u, u0)
-    if rel[0] > 0.0 and prm[0] == 0.0:
+    if rel[0] > 0.0 and prm[NO_BREAK] == 0.0:
         return False
     kn = f[c, F_KN]
     ks = f[c, F_KS]
@@ -233,7 +234,7 @@ def law_l3geom_elperfpl(c, id1, id2, S, C, prm):
     ft1 = ks * rel[1]
     ft2 = ks * rel[2]
     dissip = 0.0
-    if prm[1] == 0.0:
+    if prm[NO_SLIP] == 0.0:
         max_ft = max(0.0, -fn) * f[c, F_TANPHI]
         ft2_sum = ft1 * ft1 + ft2 * ft2
         if ft2_sum > max_ft * max_ft:
@@ -271,13 +272,22 @@ _GEOM_PARAMS = (
                            "normal instead of the mid-step one, 4 mid-step normal not renormalised [-]"),
 )
 
-registry.register_functor(Functor(
+IG2_L3 = Functor(
     "Ig2_Sphere_Sphere_L3Geom", "geom", (ShapeKind.SPHERE, ShapeKind.SPHERE), "L3Geom",
     f"{__name__}:geom_sphere_sphere_l3", _GEOM_PARAMS,
-    geom_sphere_sphere_l3.py_func.__doc__ + l3geom_spheres_like.py_func.__doc__, HISTORY))
-registry.register_functor(Functor(
+    geom_sphere_sphere_l3.py_func.__doc__ + l3geom_spheres_like.py_func.__doc__, HISTORY)
+registry.register_functor(IG2_L3)
+LAW_L3 = Functor(
     "Law2_L3Geom_FrictPhys_ElPerfPl", "law", ("L3Geom", "FrictPhys"), None,
     f"{__name__}:law_l3geom_elperfpl",
     (Param("noBreak", False, "Keep the contact when the particles separate (it then pulls) [-]"),
      Param("noSlip", False, "No plastic slip: the shear force is not limited [-]")),
-    law_l3geom_elperfpl.py_func.__doc__, HISTORY))
+    law_l3geom_elperfpl.py_func.__doc__, HISTORY)
+registry.register_functor(LAW_L3)
+#: places of the functors' parameters in their rows ``prm`` (the geometry's: ``_GEOM_PARAMS``)
+NO_RATCH = IG2_L3.slot("noRatch")
+DIST_FACTOR = IG2_L3.slot("distFactor")
+TRSF_RENORM = IG2_L3.slot("trsfRenorm")
+APPROX_MASK = IG2_L3.slot("approxMask")
+NO_BREAK = LAW_L3.slot("noBreak")
+NO_SLIP = LAW_L3.slot("noSlip")

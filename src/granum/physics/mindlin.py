@@ -64,7 +64,14 @@ from granum.physics import materials, registry
 from granum.physics.frict import M_FRICTION
 from granum.physics.materials import NON_NEGATIVE
 from granum.physics.registry import Functor, Param, Range
-from granum.physics.scgeom import contact_shift, scgeom_incident_vel, scgeom_ratchet, scgeom_rotate_shear
+from granum.physics.scgeom import (
+    contact_shift,
+    rotate_tangential,
+    scgeom_incident_vel,
+    scgeom_ratchet,
+    scgeom_rotate_shear,
+    scgeom_shear_rotation,
+)
 from granum.physics.vec import add, dot, scale, sub
 
 _NAN = float("nan")
@@ -299,7 +306,8 @@ def law_mindlin(c, id1, id2, S, C, prm):
     f[c, F_KN] = kn
     f[c, F_KS] = ks
     n = load3(f, c, F_NORMAL)
-    fs_el = scgeom_rotate_shear(c, id1, id2, S, C, load3(f, c, F_SHEAR_EL))
+    rotation = scgeom_shear_rotation(c, id1, id2, S, C)
+    fs_el = rotate_tangential(load3(f, c, F_SHEAR_EL), rotation)
     fs_prev = fs_el
     shift, shift_vel = contact_shift(c, S, C)
     v = scgeom_incident_vel(c, id1, id2, S, C, shift, shift_vel, scgeom_ratchet(c, C))
@@ -323,10 +331,10 @@ def law_mindlin(c, id1, id2, S, C, prm):
     if not adhesion and dot(fn, n) < 0.0:   # no attraction: the viscous part at most cancels the elastic one
         fn = (0.0, 0.0, 0.0)
         nvisc = scale(n, fn_el)
-    us_el = scgeom_rotate_shear(c, id1, id2, S, C, load3(f, c, F_US_EL))
+    us_el = rotate_tangential(load3(f, c, F_US_EL), rotation)
     us_el_prev = us_el
     us_el = add(us_el, du)
-    us_tot = scgeom_rotate_shear(c, id1, id2, S, C, load3(f, c, F_US_TOT))
+    us_tot = rotate_tangential(load3(f, c, F_US_TOT), rotation)
     us_tot_prev = us_tot
     us_tot = add(us_tot, du)
     # Coulomb
@@ -349,8 +357,9 @@ def law_mindlin(c, id1, id2, S, C, prm):
     store3(f, c, F_FN, fn)
     store3(f, c, F_FS, fs)
     store3(f, c, F_SHEAR_EL, fs_el)
-    store3(f, c, F_NVISC, nvisc)
-    store3(f, c, F_SVISC, svisc)
+    if bn != 0.0 or bs != 0.0:   # undamped, the viscous parts stay 0 (the clamp needs a viscous part)
+        store3(f, c, F_NVISC, nvisc)
+        store3(f, c, F_SVISC, svisc)
     store3(f, c, F_US_EL, us_el)
     store3(f, c, F_US_TOT, us_tot)
     if energy:

@@ -65,20 +65,35 @@ def scgeom_write(c, C, normal, pen, point, r1, r2, ratchet):
 
 
 @jit
+def scgeom_shear_rotation(c, id1, id2, S, C):
+    """The step's rotation of contact ``c``'s tangent plane, ``(orth, twist)`` for :func:`rotate_tangential`:
+    orth = n_prev x n (the normal's turn, (3.3,4)) and twist = dt/2 (n_prev . (w1 + w2)) n_prev (the common
+    spin of the two bodies about the normal). A law carrying several tangential vectors computes it once."""
+    f = C.con_f
+    n = (f[c, F_NORMAL], f[c, F_NORMAL + 1], f[c, F_NORMAL + 2])
+    n0 = (f[c, F_PREV_NORMAL], f[c, F_PREV_NORMAL + 1], f[c, F_PREV_NORMAL + 2])
+    orth = cross(n0, n)
+    w = add(load3(S.ang_vel, id1), load3(S.ang_vel, id2))
+    return orth, scale(n0, 0.5 * S.scal[0] * dot(n0, w))
+
+
+@jit
+def rotate_tangential(v, rotation):
+    """Carry the tangential vector ``v`` of the last step into the current tangent plane:
+    v -= v x orth, then v -= v x twist (``rotation`` from :func:`scgeom_shear_rotation`)."""
+    orth, twist = rotation
+    v = sub(v, cross(v, orth))
+    return sub(v, cross(v, twist))
+
+
+@jit
 def scgeom_rotate_shear(c, id1, id2, S, C, fs):
     """Carry the shear force ``fs`` of the last step into the current tangent plane.
 
     Rotation of the contact plane (3.3,4): fs -= fs x (n_prev x n); then the common
     spin of the two bodies about the normal: fs -= fs x (dt/2 (n_prev . (w1 + w2)) n_prev).
     """
-    f = C.con_f
-    n = (f[c, F_NORMAL], f[c, F_NORMAL + 1], f[c, F_NORMAL + 2])
-    n0 = (f[c, F_PREV_NORMAL], f[c, F_PREV_NORMAL + 1], f[c, F_PREV_NORMAL + 2])
-    orth = cross(n0, n)
-    w = add(load3(S.ang_vel, id1), load3(S.ang_vel, id2))
-    twist = scale(n0, 0.5 * S.scal[0] * dot(n0, w))
-    fs = sub(fs, cross(fs, orth))
-    return sub(fs, cross(fs, twist))
+    return rotate_tangential(fs, scgeom_shear_rotation(c, id1, id2, S, C))
 
 
 @jit(inline="always")  # called per contact by the laws and the force gather: no call

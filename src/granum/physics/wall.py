@@ -55,16 +55,19 @@ def geom_wall_sphere(c, id1, id2, shift, S, C, prm):
     n = (side if a == 0 else 0.0, side if a == 1 else 0.0, side if a == 2 else 0.0)
     pen = r - side * d
     point = (S.pos[id1, 0] if a == 0 else x[0], S.pos[id1, 1] if a == 1 else x[1], S.pos[id1, 2] if a == 2 else x[2])
-    scgeom_write(c, C, n, pen, point, r, r, prm[0] != 0.0)
+    scgeom_write(c, C, n, pen, point, r, r, prm[NO_RATCH] != 0.0)
     return 0.0
 
 
 registry.register_functor(Functor(
     "Bo1_Wall_Aabb", "bound", (ShapeKind.WALL,), None, f"{__name__}:bound_wall", (),
     "Axis-aligned bound of a wall (infinite in the plane)."))
-registry.register_functor(Functor(
+IG2_WALL_SCGEOM = Functor(
     "Ig2_Wall_Sphere_ScGeom", "geom", (ShapeKind.WALL, ShapeKind.SPHERE), "ScGeom",
     f"{__name__}:geom_wall_sphere",
     (Param("noRatch", True, "Use reference radii as lever arms in the relative velocity [-]"),
      Param("hertzian", False, "Hertzian contact geometry (accepted)", supported=False)),
-    geom_wall_sphere.py_func.__doc__))
+    geom_wall_sphere.py_func.__doc__)
+registry.register_functor(IG2_WALL_SCGEOM)
+#: place of ``noRatch`` in the functor's row ``prm``
+NO_RATCH = IG2_WALL_SCGEOM.slot("noRatch")
