@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from granum.core.bodies import BODY_COLUMNS
 from granum.core.records import RecordSpec
-from granum.core.shapes import SHAPE_COLUMNS
+from granum.core.shapes import SHAPES
 
 # ---- float scalars: scal ---------------------------------------------------------
 S_DT = 0           # time step [s]
@@ -58,8 +58,8 @@ def declare_material(kind: str, columns) -> None:
 
 def _scene_fields() -> list[tuple[str, str, int]]:
     fields = [(c.name, c.dtype, 1 + len(c.tail)) for c in BODY_COLUMNS]
-    for kind, cols in SHAPE_COLUMNS.items():
-        fields += [(f"{kind.name.lower()}_{c.name}", c.dtype, 1 + len(c.tail)) for c in cols]
+    for shape in SHAPES:
+        fields += [(shape.field(c.name), c.dtype, 1 + len(c.tail)) for c in shape.columns]
     fields += [
         ("mat_kind", "i4", 1),      # material class code of each material row, (M,)
         ("mat", "f8", 2),           # material parameters, columns named by the registry, (M, ncol)

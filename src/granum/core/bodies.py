@@ -8,21 +8,8 @@ dead row, so ids never move). ``N`` below is the table's capacity; rows at and p
 from __future__ import annotations
 
 import math
-from enum import IntEnum
 
 from granum.core.table import Column, Table
-
-
-class ShapeKind(IntEnum):
-    """Kind of a body's shape; selects the shape table that ``shape_row`` indexes."""
-
-    NONE = 0
-    SPHERE = 1
-    FACET = 2
-    WALL = 3
-    BOX = 4
-    CLUMP = 5
-
 
 #: Bits of ``body_blocked`` in YADE's ``blockedDOFs`` letter order ``xyzXYZ``.
 DOF_LETTERS = "xyzXYZ"
@@ -61,7 +48,7 @@ BODY_COLUMNS = (
     Column("ref_pos", (3,), "f8", 0.0, "Reference position for displacement measures [m], (N, 3)."),
     Column("ref_ori", (4,), "f8", (1.0, 0.0, 0.0, 0.0), "Reference orientation (w, x, y, z), (N, 4).", lazy=True),
     Column("alive", (), "?", False, "False for erased ids and unused rows, (N,)."),
-    Column("shape_kind", (), "i1", 0, "ShapeKind of the body, (N,)."),
+    Column("shape_kind", (), "i1", 0, "Kind of the body's shape (granum.core.shapes.ShapeKind), (N,)."),
     Column("shape_row", (), "i4", -1, "Row of the body's shape in the table of its kind, (N,)."),
     Column("material", (), "i4", -1, "Row of the body's material in the scene's material table, (N,)."),
     Column("mask", (), "i8", 1, "Group mask; two bodies interact only if mask1 & mask2 != 0, (N,)."),

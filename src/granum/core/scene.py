@@ -30,7 +30,7 @@ from granum.core.arrays import (
     SI_PERIODIC,
     SI_TRACK_ENERGY,
 )
-from granum.core.bodies import ShapeKind, new_body_table
+from granum.core.bodies import new_body_table
 from granum.core.contacts import (
     C_COLLIDE,
     C_CONTACTS,
@@ -43,7 +43,7 @@ from granum.core.contacts import (
     resize_for_bodies,
     with_images,
 )
-from granum.core.shapes import CLUMP_MEMBER_COLUMNS, new_shape_tables
+from granum.core.shapes import CLUMP_MEMBER_COLUMNS, ShapeKind, new_shape_tables, shape_type
 from granum.core.table import Table
 
 
@@ -243,11 +243,11 @@ class Scene(BodyStore):
         # lazy columns the kernels follow without looking (clump members, aspherical bodies)
         if self.shapes[ShapeKind.CLUMP].count:
             b.allocate("clump_rel_pos", "clump_rel_ori")
-        if self.shapes[ShapeKind.CLUMP].count or self.shapes[ShapeKind.BOX].count:
+        if any(shape_type(kind).aspherical and table.count for kind, table in self.shapes.items()):
             b.allocate("ang_mom")
         values = {c.name: b.stored(c.name) for c in b.columns}
         for kind, table in self.shapes.items():
-            values.update({f"{kind.name.lower()}_{c.name}": table.stored(c.name) for c in table.columns})
+            values.update({shape_type(kind).field(c.name): table.stored(c.name) for c in table.columns})
         values.update(mat_kind=mat_kind, mat=mat, cell_hsize=self.cell_hsize, cell_velgrad=self.cell_velgrad,
                       cell_prev_velgrad=self.cell_prev_velgrad, cell_trsf=self.cell_trsf,
                       cell_bound_hsize=self.cell_bound_hsize, clump_members=self.clump_members.id,

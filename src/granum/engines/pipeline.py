@@ -13,8 +13,8 @@ import functools
 import numpy as np
 
 from granum.core.attrs import Attr, instance_of, only_default, to_bool, to_float, to_int
-from granum.core.bodies import ShapeKind
 from granum.core.contacts import contact_width
+from granum.core.shapes import ShapeKind
 from granum.engines.base import GlobalEngine
 from granum.engines.functors import check_role, functor_table
 from granum.kernels.collider import ColliderParams

@@ -15,7 +15,6 @@ from collections.abc import Callable
 
 import numpy as np
 
-from granum.core.bodies import ShapeKind
 from granum.core.contacts import (
     C_CONTACTS,
     F_FN,
@@ -33,11 +32,12 @@ from granum.core.contacts import (
     STATUS_NONFINITE,
     STATUS_TOO_LARGE,
 )
+from granum.core.shapes import shape_type
 
 
 def _shape(scene, i: int) -> str:
     """YADE class name of body ``i``'s shape (``"Sphere"``)."""
-    return ShapeKind(int(scene.bodies.shape_kind[i])).name.capitalize()
+    return shape_type(scene.bodies.shape_kind[i]).name
 
 
 def _materials(scene, a: int, b: int) -> tuple[str, str]:

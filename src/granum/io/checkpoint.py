@@ -61,7 +61,6 @@ from granum import mathtypes
 from granum.core import validate
 from granum.core.arrays import ENERGY_NAMES, S_DT, SI_HOMO_DEFORM, SI_HOOK
 from granum.core.attrs import Attributed
-from granum.core.bodies import ShapeKind
 from granum.core.contacts import (
     C_CONTACTS,
     C_CSR_DIRTY,
@@ -81,6 +80,7 @@ from granum.core.contacts import (
     nf,
 )
 from granum.core.scene import Scene
+from granum.core.shapes import ShapeKind, shape_type
 from granum.core.table import Table
 from granum.engines.pipeline import Dispatcher
 from granum.io.atomic import atomic_path
@@ -428,11 +428,6 @@ _BODY_RULES = {"pos": validate.FINITE_VECTOR, "vel": validate.FINITE_VECTOR, "an
                "ang_mom": validate.FINITE_VECTOR, "inertia": validate.FINITE_VECTOR,
                "ref_pos": validate.FINITE_VECTOR, "color": validate.FINITE_VECTOR,
                "mass": validate.NON_NEGATIVE_FINITE, "ori": validate.QUATERNION}
-#: Shape columns and the rule their setters (``Sphere.radius``, ...) apply, checked for the shapes bodies use.
-_SHAPE_RULES = {ShapeKind.SPHERE: {"radius": validate.POSITIVE_FINITE},
-                ShapeKind.FACET: {"vertices": validate.TRIANGLE},
-                ShapeKind.WALL: {"axis": validate.WALL_AXIS, "sense": validate.WALL_SENSE},
-                ShapeKind.BOX: {"extents": validate.EXTENTS}}
 
 
 def _obeys(rule: validate.Rule, values, name: str, source: str, ids=None) -> None:
@@ -457,11 +452,11 @@ def scene_values_check(scene: Scene, source: str) -> None:
         if b.allocated(column):
             _obeys(rule, getattr(b, column)[ids], f"O.bodies[{{}}].state.{column}", source, ids)
     kind = b.shape_kind[ids]
-    for k, rules in _SHAPE_RULES.items():
+    for k, table in scene.shapes.items():   # the rules their setters (Sphere.radius, ...) apply
         of_kind = ids[kind == k]
         rows = b.shape_row[of_kind]
-        for column, rule in rules.items():
-            _obeys(rule, getattr(scene.shapes[k], column)[rows], f"O.bodies[{{}}].shape.{column}", source, of_kind)
+        for column, rule in shape_type(k).rules.items():
+            _obeys(rule, getattr(table, column)[rows], f"O.bodies[{{}}].shape.{column}", source, of_kind)
 
 
 def scene_check(scene: Scene, source: str) -> None:

@@ -30,7 +30,13 @@ from granum.io.atomic import write_bytes, write_text
 VTK_VERTEX = 1
 VTK_LINE = 3
 VTK_TRIANGLE = 5
+VTK_POLYGON = 7
 VTK_QUAD = 9
+
+
+def polygon_type(nvertices: int) -> int:
+    """VTK cell type of a polygon of ``nvertices`` vertices: triangle, quad, or the general polygon."""
+    return {3: VTK_TRIANGLE, 4: VTK_QUAD}.get(nvertices, VTK_POLYGON)
 
 _TYPE_NAMES = {"f": "Float64", "i": "Int64", "u": "UInt8", "b": "UInt8"}
 _DTYPES = {"Float64": "<f8", "Int64": "<i8", "UInt8": "u1"}

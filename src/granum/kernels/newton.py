@@ -36,9 +36,9 @@ from granum.core.arrays import (
     SI_PERIODIC,
     SI_TRACK_ENERGY,
 )
-from granum.core.bodies import ShapeKind
 from granum.core.contacts import C_ERR_A, C_STATUS, STATUS_NONFINITE
 from granum.core.records import raw
+from granum.core.shapes import ShapeKind
 from granum.kernels.schedule import block_queue, next_block, queue_workers
 from granum.physics.vec import (
     add,

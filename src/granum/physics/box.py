@@ -6,8 +6,10 @@ References:
 
 from __future__ import annotations
 
+import math
+
 from granum._jit import jit
-from granum.core.bodies import ShapeKind
+from granum.core.shapes import ShapeKind
 from granum.physics import registry
 from granum.physics.registry import Functor, Param
 from granum.physics.scgeom import scgeom_write
@@ -71,6 +73,14 @@ def geom_box_sphere(c, id1, id2, shift, S, C, prm):
     return 0.0
 
 
+@jit
+def reach_box(row, S):
+    """Reach of box ``row``: half its diagonal, |extents| [m]."""
+    e = S.box_extents[row]
+    return math.sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2])
+
+
+registry.register_reach(ShapeKind.BOX, f"{__name__}:reach_box")
 registry.register_functor(Functor(
     "Bo1_Box_Aabb", "bound", (ShapeKind.BOX,), None, f"{__name__}:bound_box", (),
     "Axis-aligned bound of an oriented box."))

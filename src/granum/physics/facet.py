@@ -14,7 +14,7 @@ from __future__ import annotations
 import math
 
 from granum._jit import jit
-from granum.core.bodies import ShapeKind
+from granum.core.shapes import ShapeKind
 from granum.physics import registry
 from granum.physics.registry import Functor, Param
 from granum.physics.scgeom import scgeom_write
@@ -108,6 +108,17 @@ def geom_facet_sphere(c, id1, id2, shift, S, C, prm):
     return 0.0
 
 
+@jit
+def reach_facet(row, S):
+    """Reach of facet ``row``: the largest distance from the body position to a vertex [m]."""
+    r = 0.0
+    for k in range(3):
+        r = max(r, math.sqrt(S.facet_vertices[row, k, 0] ** 2 + S.facet_vertices[row, k, 1] ** 2
+                             + S.facet_vertices[row, k, 2] ** 2))
+    return r
+
+
+registry.register_reach(ShapeKind.FACET, f"{__name__}:reach_facet")
 registry.register_functor(Functor(
     "Bo1_Facet_Aabb", "bound", (ShapeKind.FACET,), None, f"{__name__}:bound_facet", (),
     "Axis-aligned bound of a facet."))

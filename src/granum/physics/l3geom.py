@@ -17,7 +17,6 @@ import math
 
 from granum._jit import jit
 from granum.core.arrays import S_DT, SI_ITER, SI_TRACK_ENERGY
-from granum.core.bodies import ShapeKind
 from granum.core.contacts import (
     F_E_DISSIP,
     F_E_ELAST,
@@ -36,6 +35,7 @@ from granum.core.contacts import (
     I_FLAGS,
     register_history,
 )
+from granum.core.shapes import ShapeKind
 from granum.physics import registry
 from granum.physics.registry import Functor, Param
 from granum.physics.scgeom import contact_shift

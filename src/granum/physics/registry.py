@@ -42,7 +42,6 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from granum.core.arrays import MATERIAL_COLUMNS, MATERIAL_KINDS, declare_material
-from granum.core.bodies import ShapeKind
 
 
 @dataclass(frozen=True)
@@ -382,6 +381,16 @@ def phys_ancestry(name: str) -> list[str]:
     return _type_ancestry(PHYS_TYPES, name)
 
 
-def shape_name(kind: ShapeKind) -> str:
-    """YADE class name of a shape kind."""
-    return kind.name.capitalize()
+#: The reach of each shape kind that turns with its body, by kind (see :func:`register_reach`).
+REACH: dict[int, str] = {}
+
+
+def register_reach(kind: int, func: str) -> None:
+    """Declare the reach of the shape kind ``kind``: ``func``, ``"module:function"`` of a compiled
+    ``reach(row, S) -> float``, is the largest distance from the body position to a point of the shape in
+    row ``row`` of the kind's table [m]. The collider allows a body that turned by an angle a since its
+    bound was computed a motion of a times its reach (:mod:`granum.kernels.collider`); a kind without a
+    reach (sphere, wall) does not move by turning."""
+    if _sealed:
+        raise RuntimeError(f"the reach of shape kind {kind} is registered after the kernels were compiled")
+    REACH[int(kind)] = func

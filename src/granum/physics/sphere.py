@@ -7,7 +7,7 @@ References:
 from __future__ import annotations
 
 from granum._jit import jit
-from granum.core.bodies import ShapeKind
+from granum.core.shapes import ShapeKind
 from granum.physics import registry
 from granum.physics.registry import Functor, Param
 from granum.physics.scgeom import scgeom_write

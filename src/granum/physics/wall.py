@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 
 from granum._jit import jit
-from granum.core.bodies import ShapeKind
+from granum.core.shapes import ShapeKind
 from granum.physics import registry
 from granum.physics.registry import Functor, Param
 from granum.physics.scgeom import scgeom_write

@@ -72,7 +72,7 @@ from granum.yade import (  # noqa: F401 - the yade.X modules (_laws: the law cla
     ymport,
 )
 from granum.yade.batch import readParamsFromTable, runningInBatch, waitIfBatch
-from granum.yade.bodies import Aabb, Body, Box, Clump, Facet, Shape, Sphere, State, Wall
+from granum.yade.bodies import SHAPE_CLASSES, Aabb, Body, Shape, State
 from granum.yade.cell import Cell
 from granum.yade.interactions import GEOM_VIEWS as _GEOMS
 from granum.yade.interactions import PHYS_VIEWS as _PHYSS
@@ -106,6 +106,7 @@ _namespace.update(_FUNCTORS)
 _namespace.update(_MATERIALS)
 _namespace.update(_GEOMS)
 _namespace.update(_PHYSS)
+_namespace.update({cls.__name__: cls for cls in SHAPE_CLASSES.values()})
 _namespace.update({name: getattr(utils, name) for name in _utils_all})
 _namespace.update(
     O=O, Omega=Omega, Engine=Engine, GlobalEngine=GlobalEngine, PartialEngine=PartialEngine,
@@ -118,9 +119,8 @@ _namespace.update(
     ForceEngine=ForceEngine, TranslationEngine=TranslationEngine, RotationEngine=RotationEngine,
     KinematicEngine=KinematicEngine, HelixEngine=HelixEngine, CombinedKinematicEngine=CombinedKinematicEngine,
     ParallelEngine=ParallelEngine,
-    SimulationError=SimulationError, Body=Body, State=State, Shape=Shape, Sphere=Sphere, Facet=Facet, Wall=Wall,
-    Box=Box, Clump=Clump, Aabb=Aabb, Cell=Cell, Interaction=Interaction, Vector2=Vector2, Vector2i=Vector2i,
-    Vector3=Vector3,
+    SimulationError=SimulationError, Body=Body, State=State, Shape=Shape, Aabb=Aabb, Cell=Cell,
+    Interaction=Interaction, Vector2=Vector2, Vector2i=Vector2i, Vector3=Vector3,
     Vector3i=Vector3i, Vector6=Vector6, Matrix3=Matrix3, Quaternion=Quaternion,
     readParamsFromTable=readParamsFromTable, waitIfBatch=waitIfBatch, runningInBatch=runningInBatch,
     utils=utils, geom=geom, pack=pack, plot=plot, qt=qt, timing=timing, ymport=ymport, export=export,

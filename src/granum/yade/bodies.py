@@ -13,9 +13,10 @@ from __future__ import annotations
 import numpy as np
 
 from granum.core import validate
-from granum.core.bodies import DOF_ALL, ShapeKind, dofs_from_string, dofs_to_string
+from granum.core.bodies import DOF_ALL, dofs_from_string, dofs_to_string
 from granum.core.contacts import C_CONTACTS, FLAG_ALIVE, I_FLAGS, I_ID1, I_ID2, end_contact
 from granum.core.scene import BodyStore, Scene
+from granum.core.shapes import ShapeKind, shape_type
 from granum.mathtypes import Quaternion, Vector3, as_quat_wxyz, as_vec3
 from granum.yade._pausing import pauses_the_run
 
@@ -134,7 +135,8 @@ class Body:
     @shape.setter
     def shape(self, sh) -> None:
         if not isinstance(sh, Shape):
-            raise TypeError(f"Body.shape must be a Shape (Sphere, Facet, Wall, Box), got {sh!r}")
+            names = ", ".join(c.__name__ for c in SHAPE_CLASSES.values())
+            raise TypeError(f"Body.shape must be a Shape ({names}), got {sh!r}")
         src = sh._body
         kind, table, row = src._store.shape_table(src._row)
         dst = self._store.shapes[kind]
@@ -145,7 +147,7 @@ class Body:
         b.shape_row[self._row] = new_row
         for name in ("color", "wire", "highlight"):
             getattr(b, name)[self._row] = src._col(name)[src._row]
-        b.aspherical[self._row] = kind == ShapeKind.BOX
+        b.aspherical[self._row] = shape_type(kind).aspherical
         self._sync_ang_mom()
         self._touch()
 
@@ -406,11 +408,33 @@ class Aabb(_View):
         return Vector3(*self._col("bound_max")[self._row])
 
 
+#: The view class of each shape kind, by kind (filled by :meth:`Shape.__init_subclass__`).
+SHAPE_CLASSES: dict = {}
+
+
 class Shape(_View):
-    """Base of shapes: ``color``, ``wire``, ``highlight`` (YADE ``Shape``)."""
+    """Base of shapes: ``color``, ``wire``, ``highlight`` (YADE ``Shape``).
+
+    A subclass is the view of the shape kind declared under its class name (the YADE class name,
+    :data:`granum.core.shapes.SHAPES`): defining it sets its ``kind`` and makes it the class of
+    ``b.shape`` for bodies of that kind and a name of the YADE namespace. Its class attributes say
+    how output treats the kind: ``vtk``, the ``VTKRecorder`` base recorder and file part that
+    writes these bodies (None: not written; shapes with ``faces`` are written as polygons), and
+    ``vtk_coord_number``, whether that file has ``coordNumber`` cell data.
+    """
 
     __slots__ = ()
     kind = ShapeKind.NONE
+    vtk: str | None = None
+    vtk_coord_number = False
+
+    def __init_subclass__(cls, **kw):
+        super().__init_subclass__(**kw)
+        if cls.__name__.upper() not in ShapeKind.__members__:
+            raise TypeError(f"shape view {cls.__name__}: no shape kind of that name is declared in "
+                            f"granum.core.shapes.SHAPES")
+        cls.kind = ShapeKind[cls.__name__.upper()]
+        SHAPE_CLASSES[cls.kind] = cls
 
     def __init__(self, color=None, wire: bool = False, highlight: bool = False, **kw):
         store, row = _new_detached()
@@ -436,6 +460,10 @@ class Shape(_View):
     def _table(self):
         b = self._body
         return b._store.shapes[self.kind], int(b._col("shape_row")[b._row])
+
+    def _check(self, column: str, value) -> None:
+        """Raise ValueError unless ``value`` obeys the rule the kind declares for ``column``."""
+        shape_type(self.kind).rules[column].check(value, f"{self._owner()}.{column}")
 
     color = _vec_property("color", "Display colour, RGB in [0, 1]")
 
@@ -463,7 +491,7 @@ class Sphere(Shape):
     """Sphere of radius ``radius`` [m]."""
 
     __slots__ = ()
-    kind = ShapeKind.SPHERE
+    vtk = "spheres"
 
     @property
     def radius(self) -> float:
@@ -473,7 +501,7 @@ class Sphere(Shape):
     @radius.setter
     def radius(self, value: float) -> None:
         r = float(value)
-        validate.POSITIVE_FINITE.check(r, f"{self._owner()}.radius")
+        self._check("radius", r)
         t, row = self._table()
         t.radius[row] = r
         self._body._touch()
@@ -483,7 +511,8 @@ class Facet(Shape):
     """Triangle given by three vertices relative to the body position [m] (local frame)."""
 
     __slots__ = ()
-    kind = ShapeKind.FACET
+    vtk = "facets"
+    vtk_coord_number = True
 
     @property
     def vertices(self) -> list:
@@ -493,9 +522,10 @@ class Facet(Shape):
     @vertices.setter
     def vertices(self, value) -> None:
         if len(value) != 3:
-            raise ValueError(f"{self._owner()}.vertices {validate.TRIANGLE.says}, got {len(value)} vectors")
+            raise ValueError(f"{self._owner()}.vertices {shape_type(self.kind).rules['vertices'].says}, "
+                             f"got {len(value)} vectors")
         v = np.array([as_vec3(x) for x in value])
-        validate.TRIANGLE.check(v, f"{self._owner()}.vertices")
+        self._check("vertices", v)
         n = np.cross(v[1] - v[0], v[2] - v[0])
         area2 = np.linalg.norm(n)
         t, row = self._table()
@@ -519,7 +549,6 @@ class Wall(Shape):
     """Infinite plane normal to ``axis`` (0, 1, 2); ``sense`` -1, 0, +1 selects the active side."""
 
     __slots__ = ()
-    kind = ShapeKind.WALL
 
     @property
     def axis(self) -> int:
@@ -528,7 +557,7 @@ class Wall(Shape):
 
     @axis.setter
     def axis(self, value: int) -> None:
-        validate.WALL_AXIS.check(value, f"{self._owner()}.axis")
+        self._check("axis", value)
         t, row = self._table()
         t.axis[row] = value
         self._body._touch()
@@ -540,7 +569,7 @@ class Wall(Shape):
 
     @sense.setter
     def sense(self, value: int) -> None:
-        validate.WALL_SENSE.check(value, f"{self._owner()}.sense")
+        self._check("sense", value)
         t, row = self._table()
         t.sense[row] = value
 
@@ -549,7 +578,7 @@ class Box(Shape):
     """Cuboid with half-sizes ``extents`` [m] along its local axes."""
 
     __slots__ = ()
-    kind = ShapeKind.BOX
+    vtk = "boxes"
 
     @property
     def extents(self):
@@ -559,7 +588,7 @@ class Box(Shape):
     @extents.setter
     def extents(self, value) -> None:
         e = as_vec3(value)
-        validate.EXTENTS.check(e, f"{self._owner()}.extents")
+        self._check("extents", e)
         t, row = self._table()
         t.extents[row] = e
         self._body._touch()
@@ -569,7 +598,6 @@ class Clump(Shape):
     """Shape of a clump body: a rigid aggregate of member bodies (see ``O.bodies.clump``)."""
 
     __slots__ = ()
-    kind = ShapeKind.CLUMP
 
     @property
     def members(self) -> dict:
@@ -586,10 +614,6 @@ class Clump(Shape):
     @property
     def ids(self) -> list:
         return list(self.members)
-
-
-SHAPE_CLASSES = {ShapeKind.SPHERE: Sphere, ShapeKind.FACET: Facet, ShapeKind.WALL: Wall, ShapeKind.BOX: Box,
-                 ShapeKind.CLUMP: Clump}
 
 
 class BodyContainer:

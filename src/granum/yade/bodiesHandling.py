@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from granum.core.bodies import ShapeKind
+from granum.core.shapes import ShapeKind
 from granum.mathtypes import Vector3, as_quat_wxyz, as_vec3
 from granum.yade.formulas import rotate
 from granum.yade.omega import O

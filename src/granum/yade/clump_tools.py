@@ -32,7 +32,7 @@ import math
 
 import numpy as np
 
-from granum.core.bodies import ShapeKind
+from granum.core.shapes import ShapeKind
 from granum.mathtypes import Vector3
 
 __all__ = ["clumpTemplate", "replace_by_clumps", "union_volume"]

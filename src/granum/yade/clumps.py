@@ -20,7 +20,7 @@ import math
 
 import numpy as np
 
-from granum.core.bodies import ShapeKind
+from granum.core.shapes import ShapeKind
 from granum.mathtypes import Matrix3, Quaternion, as_quat_wxyz
 
 

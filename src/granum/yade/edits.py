@@ -11,7 +11,8 @@ import random
 
 import numpy as np
 
-from granum.core.bodies import DOF_ALL, ShapeKind
+from granum.core.bodies import DOF_ALL
+from granum.core.shapes import ShapeKind
 from granum.mathtypes import Quaternion, as_vec3
 from granum.yade.omega import O
 

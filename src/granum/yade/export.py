@@ -18,8 +18,8 @@ import warnings
 
 import numpy as np
 
-from granum.core.bodies import ShapeKind
 from granum.core.contacts import F_POINT
+from granum.core.shapes import ShapeKind
 from granum.io import vtklegacy
 from granum.io.atomic import write_text
 from granum.io.vtklegacy import num

@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from granum.core.bodies import ShapeKind
 from granum.core.contacts import (
     C_CONTACTS,
     F_FN,
@@ -29,6 +28,7 @@ from granum.core.contacts import (
     I_ID1,
     I_ID2,
 )
+from granum.core.shapes import ShapeKind, shape_type
 
 
 def live_contact_rows(scene) -> np.ndarray:
@@ -174,28 +174,15 @@ def sphere_radii(scene, ids: np.ndarray) -> np.ndarray:
     return scene.shapes[ShapeKind.SPHERE].radius[scene.bodies.shape_row[ids]]
 
 
+def body_faces(scene, kind: ShapeKind, ids: np.ndarray) -> np.ndarray:
+    """(M, F, V, 3) global corners of the polygons of the bodies ``ids`` [m], all of shape kind ``kind``:
+    the F polygons of V vertices per body its declaration gives (:attr:`granum.core.shapes.ShapeType.faces`,
+    one triangle per facet, six quadrilaterals per box in YADE's VTK order)."""
+    local = shape_type(kind).faces(scene.shapes[kind], scene.bodies.shape_row[ids])
+    rot = rotation_matrices(scene.bodies.ori[ids])
+    return scene.bodies.pos[ids][:, None, None, :] + np.einsum("mij,mfkj->mfki", rot, local)
+
+
 def facet_vertices(scene, ids: np.ndarray) -> np.ndarray:
     """(F, 3, 3) global vertex positions of the facets ``ids`` [m]; ``[f, k]`` is vertex k."""
-    local = scene.shapes[ShapeKind.FACET].vertices[scene.bodies.shape_row[ids]]
-    rot = rotation_matrices(scene.bodies.ori[ids])
-    return scene.bodies.pos[ids][:, None, :] + np.einsum("fij,fkj->fki", rot, local)
-
-
-# Corner signs of the six faces of a box, four corners each, in the order YADE's VTK recorder
-# writes them: z-, z+, x-, x+, y+, y-.
-BOX_FACE_SIGNS = np.array([
-    [(-1, -1, -1), (-1, 1, -1), (1, 1, -1), (1, -1, -1)],
-    [(-1, -1, 1), (1, -1, 1), (1, 1, 1), (-1, 1, 1)],
-    [(-1, -1, -1), (-1, -1, 1), (-1, 1, 1), (-1, 1, -1)],
-    [(1, 1, 1), (1, -1, 1), (1, -1, -1), (1, 1, -1)],
-    [(-1, 1, 1), (1, 1, 1), (1, 1, -1), (-1, 1, -1)],
-    [(1, -1, -1), (1, -1, 1), (-1, -1, 1), (-1, -1, -1)],
-], dtype=float)
-
-
-def box_faces(scene, ids: np.ndarray) -> np.ndarray:
-    """(B, 6, 4, 3) global corners of the six faces of the boxes ``ids`` [m] (see BOX_FACE_SIGNS)."""
-    ext = scene.shapes[ShapeKind.BOX].extents[scene.bodies.shape_row[ids]]
-    rot = rotation_matrices(scene.bodies.ori[ids])
-    local = BOX_FACE_SIGNS[None] * ext[:, None, None, :]
-    return scene.bodies.pos[ids][:, None, None, :] + np.einsum("bij,bfkj->bfki", rot, local)
+    return body_faces(scene, ShapeKind.FACET, ids)[:, 0]

@@ -10,8 +10,8 @@ import math
 
 import numpy as np
 
-from granum.core.bodies import ShapeKind
 from granum.core.contacts import C_PAIRS, F_FN, F_FS, F_PEN, I_ID1, I_ID2
+from granum.core.shapes import ShapeKind
 from granum.mathtypes import Vector3, as_vec3
 from granum.yade.formulas import rotate
 from granum.yade.omega import O

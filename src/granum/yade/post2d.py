@@ -14,7 +14,7 @@ from numbers import Real
 
 import numpy as np
 
-from granum.core.bodies import ShapeKind
+from granum.core.shapes import ShapeKind
 from granum.mathtypes import as_vec3
 from granum.yade.omega import O
 

@@ -4,8 +4,9 @@ YADE draws its 3D view with OpenGL in a Qt window; ``qt.SnapshotEngine`` saves t
 image files. granum has no window, so :class:`View` keeps the camera of such a view and
 :func:`render` draws the scene with the software rasteriser of :mod:`granum.io.raster`:
 
-* spheres as shaded balls in their ``color``, facets as flat-shaded triangles, boxes as their six
-  faces; bodies with ``wire`` (facets by default, as in YADE) as outlines;
+* spheres as shaded balls in their ``color``, the other shapes as flat-shaded polygons, those their
+  declaration gives (``ShapeType.faces`` in :mod:`granum.core.shapes`: facets as triangles, boxes as
+  their six faces; walls are not drawn); bodies with ``wire`` (facets by default, as in YADE) as outlines;
 * with ``Renderer().intrPhys``, contacts as cylinders between the body centres, their width and
   colour (blue to red) scaled by the normal force (force chains); ``intrWire`` draws thin lines;
 * the periodic cell's edges in ``Renderer().cellColor``; the iteration and time in a corner
@@ -26,8 +27,8 @@ import time
 import numpy as np
 
 from granum.core.attrs import Attr, Attributed, to_bool, to_float, to_int, to_str
-from granum.core.bodies import ShapeKind
 from granum.core.contacts import F_FN
+from granum.core.shapes import ShapeKind, shape_type
 from granum.engines.base import PeriodicEngine
 from granum.io.atomic import atomic_path
 from granum.io.raster import Canvas
@@ -277,6 +278,21 @@ def _draw_polygons(canvas, view, tris: np.ndarray, color: np.ndarray) -> None:
     canvas.triangles(xy[ok], z[ok], color[ok], ncam[ok])
 
 
+def _draw_faces(canvas, scene, view, kind, ids, wire_all: bool) -> None:
+    """The bodies ``ids`` of shape kind ``kind`` by their polygons (:func:`granum.yade.fields.body_faces`): filled
+    (each polygon as a fan of triangles), or their edges for bodies drawn as wire."""
+    b = scene.bodies
+    faces = fields.body_faces(scene, kind, ids) + fields.wrap_shift(scene, ids)[:, None, None, :]  # (M, F, V, 3)
+    nf, nv = faces.shape[1:3]
+    wire = b.wire[ids] | wire_all
+    filled = faces[~wire]
+    tris = np.concatenate([filled[:, :, [0, k, k + 1]] for k in range(1, nv - 1)], axis=1).reshape(-1, 3, 3)
+    _draw_polygons(canvas, view, tris, np.repeat(b.color[ids][~wire], nf * (nv - 2), axis=0))
+    outline = faces[wire]
+    edges = np.stack([outline, np.roll(outline, -1, axis=2)], axis=3).reshape(-1, 2, 3)
+    _draw_wire_edges(canvas, view, edges, np.repeat(b.color[ids][wire], nf * nv, axis=0))
+
+
 def _draw_contacts(canvas, scene, view, renderer) -> None:
     rows = fields.live_contact_rows(scene)
     if rows.size == 0:
@@ -315,21 +331,9 @@ def render(scene, view: View, renderer: Renderer = RENDERER) -> np.ndarray:
             return ids if mask == -1 else ids[(b.mask[ids] & mask) != 0]
 
         _draw_spheres(canvas, scene, view, of_kind(ShapeKind.SPHERE), renderer.wire)
-        facets = of_kind(ShapeKind.FACET)
-        verts = fields.facet_vertices(scene, facets) + fields.wrap_shift(scene, facets)[:, None, :]
-        wire = b.wire[facets] | renderer.wire
-        _draw_polygons(canvas, view, verts[~wire], b.color[facets][~wire])
-        edges = np.stack([verts[wire], np.roll(verts[wire], -1, axis=1)], axis=2).reshape(-1, 2, 3)
-        _draw_wire_edges(canvas, view, edges, np.repeat(b.color[facets][wire], 3, axis=0))
-        boxes = of_kind(ShapeKind.BOX)
-        faces = fields.box_faces(scene, boxes) + fields.wrap_shift(scene, boxes)[:, None, None, :]  # (B, 6, 4, 3)
-        wire = b.wire[boxes] | renderer.wire
-        quads = faces[~wire]
-        tris = np.concatenate([quads[:, :, [0, 1, 2]], quads[:, :, [0, 2, 3]]], axis=1).reshape(-1, 3, 3)
-        _draw_polygons(canvas, view, tris, np.repeat(b.color[boxes][~wire], 12, axis=0))
-        outline = faces[wire]
-        edges = np.stack([outline, np.roll(outline, -1, axis=2)], axis=3).reshape(-1, 2, 3)
-        _draw_wire_edges(canvas, view, edges, np.repeat(b.color[boxes][wire], 24, axis=0))
+        for kind in scene.shapes:
+            if shape_type(kind).faces is not None:
+                _draw_faces(canvas, scene, view, kind, of_kind(kind), renderer.wire)
     if renderer.intrPhys or renderer.intrWire:
         _draw_contacts(canvas, scene, view, renderer)
     if scene.periodic:

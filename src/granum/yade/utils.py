@@ -15,7 +15,7 @@ import numpy as np
 
 from granum._jit import call
 from granum.core.attrs import as_flag, as_integer, as_number
-from granum.core.bodies import DOF_ALL, ShapeKind
+from granum.core.bodies import DOF_ALL
 from granum.core.contacts import (
     C_CONTACTS,
     C_STATUS,
@@ -32,6 +32,7 @@ from granum.core.contacts import (
     I_ID1,
     I_ID2,
 )
+from granum.core.shapes import ShapeKind, shape_type
 from granum.engines import interrupts
 from granum.mathtypes import Matrix3, Quaternion, Vector3, as_quat_wxyz, as_vec3
 from granum.yade.bodies import Body, Box, Facet, Sphere, Wall
@@ -90,11 +91,16 @@ def _vec3(value, what: str) -> np.ndarray:
 
 
 def _body(factory, shape, center, material, fixed, dynamic, mask, orientation=None):
-    """The body of a factory: ``fixed`` (or ``dynamic=False``) blocks its six DOFs; ``mask`` is an integer."""
+    """The body of a factory: ``fixed`` (or ``dynamic=False``) blocks its six DOFs; ``mask`` is an integer; the
+    mass and inertia of a uniform body of the material's density, for a shape kind that declares them
+    (:attr:`granum.core.shapes.ShapeType.mass`; massless otherwise)."""
     fixed, dynamic = _flags(factory, fixed=fixed, dynamic=dynamic).values()
     center = _vec3(center, f"{factory}: center")
     b = Body(shape=shape, material=_material(material), mask=as_integer(mask, f"{factory}: mask"))
     st = b.state
+    mass = shape_type(shape.kind).mass
+    if mass is not None:
+        st.mass, st.inertia = mass(b.material.density, *b.shape._table())
     st.pos = center
     st.refPos = center
     if orientation is not None:
@@ -118,12 +124,7 @@ def sphere(center, radius, dynamic=None, fixed=False, wire=False, color=None, hi
     wire, highlight = _flags("sphere", wire=wire, highlight=highlight).values()
     shape = Sphere(radius=as_number(radius, "sphere: radius"), color=randomColor() if color is None else color,
                    wire=wire, highlight=highlight)
-    b = _body("sphere", shape, center, material, fixed, dynamic, mask)
-    r = shape.radius
-    m = b.material.density * 4.0 / 3.0 * math.pi * r ** 3
-    b.state.mass = m
-    b.state.inertia = (0.4 * m * r * r,) * 3
-    return b
+    return _body("sphere", shape, center, material, fixed, dynamic, mask)
 
 
 def facet(vertices, dynamic=None, fixed=True, wire=True, color=None, highlight=False, noBound=False,
@@ -166,18 +167,11 @@ def wall(position, axis, sense=0, color=None, material=-1, mask=1):
 
 def box(center, extents, orientation=None, dynamic=None, fixed=False, wire=False, color=None, highlight=False,
         material=-1, mask=1):
-    """A box with half-sizes ``extents``: mass 8 rho e0 e1 e2, inertia m/3 (e1^2+e2^2, ...)."""
+    """A box with half-sizes ``extents``: mass 8 rho e0 e1 e2, inertia m/3 (e1^2+e2^2, ...); aspherical."""
     wire, highlight = _flags("box", wire=wire, highlight=highlight).values()
     shape = Box(extents=extents, color=randomColor() if color is None else color, wire=wire, highlight=highlight)
     ori = Quaternion(1, 0, 0, 0) if orientation is None else Quaternion(*_wxyz(orientation))
-    b = _body("box", shape, center, material, fixed, dynamic, mask, ori)
-    e = np.asarray(shape.extents._a)
-    m = b.material.density * 8.0 * e.prod()
-    b.state.mass = m
-    e2 = e * e
-    b.state.inertia = (m / 3 * (e2[1] + e2[2]), m / 3 * (e2[0] + e2[2]), m / 3 * (e2[0] + e2[1]))
-    b.aspherical = True
-    return b
+    return _body("box", shape, center, material, fixed, dynamic, mask, ori)
 
 
 def _wxyz(q):

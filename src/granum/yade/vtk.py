@@ -13,6 +13,9 @@ recorder       file                contents
 ``pericell``   ``pericell.N.vtu``  the periodic cell as a hexahedron (periodic scenes only)
 =============  ==================  ========================================================
 
+The shapes' recorders are those their view classes name (``Shape.vtk``); every shape but the
+sphere is written as its polygons (``ShapeType.faces`` in :mod:`granum.core.shapes`), one cell each.
+
 Generic recorders add arrays to those files, with YADE's names:
 
 * ``id``, ``mask``, ``mass``, ``clumpId``, ``materialId``: scalars (spheres; ``mask``/``materialId``
@@ -39,18 +42,22 @@ is not drawn across the cell. Model-specific recorders (``cpm``, ``jcfpm``, ...)
 
 from __future__ import annotations
 
+import functools
 import os
 
 import numpy as np
 
 from granum.core.attrs import Attr, to_bool, to_int, to_str
-from granum.core.bodies import DOF_ALL, ShapeKind
+from granum.core.bodies import DOF_ALL
 from granum.core.contacts import F_FN, F_FS, F_NORMAL
+from granum.core.shapes import ShapeKind
 from granum.engines.base import PeriodicEngine
 from granum.io import vtkxml
 from granum.yade import fields
+from granum.yade.bodies import SHAPE_CLASSES
 
-BASE_RECORDERS = ("spheres", "facets", "boxes", "intr", "pericell")
+#: The shape kinds' recorders (each view class's ``vtk``: spheres, facets, boxes), then contacts and the cell.
+BASE_RECORDERS = tuple(cls.vtk for cls in SHAPE_CLASSES.values() if cls.vtk) + ("intr", "pericell")
 GENERIC_RECORDERS = ("id", "mass", "clumpId", "colors", "mask", "materialId", "coordNumber", "velocity", "stress",
                      "force", "bstresses")
 # YADE's recorders for models that granum does not implement: naming one is an error, not a no-op.
@@ -129,10 +136,12 @@ class VTKRecorder(PeriodicEngine):
         """Write the files of the active base recorders for the scene's current state; return their names."""
         rec = self.active()
         written = []
-        for part, ext, make in (("spheres", "vtu", self._spheres), ("facets", "vtu", self._facets),
-                                ("boxes", "vtu", self._boxes), ("intrs", "vtp", self._intrs),
-                                ("pericell", "vtu", self._pericell)):
-            if (part if part != "intrs" else "intr") not in rec:
+        shapes = [(cls.vtk, cls.vtk, "vtu", self._spheres if kind == ShapeKind.SPHERE else
+                   functools.partial(self._polygons, kind, cls.vtk_coord_number))
+                  for kind, cls in SHAPE_CLASSES.items() if cls.vtk]
+        for recorder, part, ext, make in shapes + [("intr", "intrs", "vtp", self._intrs),
+                                                   ("pericell", "pericell", "vtu", self._pericell)]:
+            if recorder not in rec:
                 continue
             if part == "pericell" and not scene.periodic:
                 continue
@@ -216,23 +225,19 @@ class VTKRecorder(PeriodicEngine):
         vtkxml.write_unstructured_grid(path, b.pos[ids], np.arange(n), np.arange(1, n + 1),
                                        np.full(n, vtkxml.VTK_VERTEX), pd, cd, **self._write_kw())
 
-    def _facets(self, scene, rec: set, path: str) -> None:
-        ids = fields.ids_of_kind(scene, ShapeKind.FACET, self.mask)
-        n = len(ids)
+    def _polygons(self, kind: ShapeKind, coord_number: bool, scene, rec: set, path: str) -> None:
+        """Bodies of shape kind ``kind`` as their polygons (:func:`granum.yade.fields.body_faces`), each polygon
+        a cell carrying its body's data; ``coord_number``: with ``coordNumber`` cell data (facets)."""
+        ids = fields.ids_of_kind(scene, kind, self.mask)
+        faces = fields.body_faces(scene, kind, ids)
+        n, nf, nv = faces.shape[:3]
         cd = self._common(scene, ids, rec, "stress")
-        if "coordNumber" in rec:
+        if coord_number and "coordNumber" in rec:
             cd["coordNumber"] = fields.coord_numbers(scene)[ids].astype(float)
-        vtkxml.write_unstructured_grid(path, fields.facet_vertices(scene, ids).reshape(-1, 3), np.arange(3 * n),
-                                       3 * np.arange(1, n + 1), np.full(n, vtkxml.VTK_TRIANGLE), None, cd,
-                                       **self._write_kw())
-
-    def _boxes(self, scene, rec: set, path: str) -> None:
-        ids = fields.ids_of_kind(scene, ShapeKind.BOX, self.mask)
-        n = len(ids)
-        cd = {name: np.repeat(v, 6, axis=0) for name, v in self._common(scene, ids, rec, "stress").items()}
-        vtkxml.write_unstructured_grid(path, fields.box_faces(scene, ids).reshape(-1, 3), np.arange(24 * n),
-                                       4 * np.arange(1, 6 * n + 1), np.full(6 * n, vtkxml.VTK_QUAD), None, cd,
-                                       **self._write_kw())
+        cd = {name: np.repeat(v, nf, axis=0) for name, v in cd.items()}
+        vtkxml.write_unstructured_grid(path, faces.reshape(-1, 3), np.arange(n * nf * nv),
+                                       nv * np.arange(1, n * nf + 1), np.full(n * nf, vtkxml.polygon_type(nv)), None,
+                                       cd, **self._write_kw())
 
     def _intrs(self, scene, rec: set, path: str) -> None:
         rows = fields.live_contact_rows(scene)
