@@ -84,7 +84,14 @@ from granum.physics.frict import M_FRICTION, series_stiffness
 from granum.physics.l3geom import load_row, store_row
 from granum.physics.materials import NON_NEGATIVE
 from granum.physics.registry import Functor, MaterialKind, Param, Range
-from granum.physics.scgeom import contact_shift, scgeom_incident_vel, scgeom_ratchet, scgeom_rotate_shear, tangential
+from granum.physics.scgeom import (
+    contact_shift,
+    rotate_tangential,
+    scgeom_incident_vel,
+    scgeom_ratchet,
+    scgeom_shear_rotation,
+    tangential,
+)
 from granum.physics.scgeom6d import G6_BENDING, G6_TWIST, scgeom6d_init
 from granum.physics.vec import add, dot, load3, norm, scale, sub
 
@@ -306,7 +313,8 @@ def law_cohesion_moment(c, id1, id2, S, C, prm):
             return released(c, S, C, keep)
     n = load_row(f, c, F_NORMAL)
     normal_force = scale(n, fn)
-    fs = scgeom_rotate_shear(c, id1, id2, S, C, load_row(f, c, F_FS))
+    rotation = scgeom_shear_rotation(c, id1, id2, S, C)   # the step's, for the force and the moments
+    fs = rotate_tangential(load_row(f, c, F_FS), rotation)
     if prm[LAW_SHEAR_CREEP] != 0.0:   # the force of the last step relaxes, then the new increment adds
         fs = sub(fs, scale(fs, ks * dt / prm[LAW_CREEP_VISCOSITY]))
     shift, shift_vel = contact_shift(c, S, C)
@@ -339,8 +347,8 @@ def law_cohesion_moment(c, id1, id2, S, C, prm):
         if prm[LAW_INCREMENTAL] != 0.0:
             w = sub(load3(S.ang_vel, id2), load3(S.ang_vel, id1))
             wn = dot(w, n)
-            mb = sub(scgeom_rotate_shear(c, id1, id2, S, C, mb), scale(sub(w, scale(n, wn)), f[c, CF_KR] * dt))
-            mt = sub(scgeom_rotate_shear(c, id1, id2, S, C, mt), scale(n, f[c, CF_KTW] * wn * dt))
+            mb = sub(rotate_tangential(mb, rotation), scale(sub(w, scale(n, wn)), f[c, CF_KR] * dt))
+            mt = sub(rotate_tangential(mt, rotation), scale(n, f[c, CF_KTW] * wn * dt))
         else:
             mt = scale(n, f[c, CF_KTW] * f[c, G6_TWIST])
             mb = scale(load_row(f, c, G6_BENDING), f[c, CF_KR])
