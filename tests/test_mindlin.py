@@ -222,12 +222,51 @@ def test_save_load_continue_equals_the_uninterrupted_run(yade, tmp_path):
     assert yade.O.engines[2].lawDispatcher.functors[0].shearEnergy == energy
 
 
+def _step_with(y, ip2, law, material=None):
+    """One step of two touching spheres with the given functors."""
+    mat = y.O.materials.append(material) if material is not None else None
+    kw = {} if mat is None else {"material": mat}
+    y.O.bodies.append([y.sphere((0, 0, 0), 0.1, **kw), y.sphere((0.19, 0, 0), 0.1, **kw)])
+    y.O.engines = [y.ForceResetter(), y.InsertionSortCollider([y.Bo1_Sphere_Aabb()]),
+                   y.InteractionLoop([y.Ig2_Sphere_Sphere_ScGeom()], [ip2], [law]), y.NewtonIntegrator()]
+    y.O.dt = 1e-6
+    y.O.step()
+
+
+@pytest.mark.parametrize("kw, bad", [(dict(en=0.0), "en.*0.0"), (dict(en=1.2), "en.*1.2"), (dict(es=-0.1), "es.*-0.1"),
+                                     (dict(betan=-0.2), "betan.*-0.2"), (dict(gamma=-1.0), "gamma.*-1.0"),
+                                     (dict(krot=-1.0), "krot.*-1.0")])
+def test_bad_functor_values_are_refused_naming_them(yade, kw, bad):
+    with pytest.raises(ValueError, match=bad):
+        _step_with(yade, yade.Ip2_FrictMat_FrictMat_MindlinPhys(**kw), yade.Law2_ScGeom_MindlinPhys_Mindlin())
+
+
+def test_restitution_and_damping_ratio_together_are_refused(yade):
+    """YADE refuses en with betan and silently ignores betas given with en: granum refuses both mixes."""
+    for kw in (dict(en=0.5, betan=0.1), dict(en=0.5, betas=0.1)):
+        with pytest.raises(ValueError, match=", ".join(kw)):
+            _step_with(yade, yade.Ip2_FrictMat_FrictMat_MindlinPhys(**kw), yade.Law2_ScGeom_MindlinPhys_Mindlin())
+        yade.O.reset()
+
+
 def test_include_moment_is_refused(yade):
-    yade.O.bodies.append([yade.sphere((0, 0, 0), 0.1), yade.sphere((0.19, 0, 0), 0.1)])
-    yade.O.engines = [yade.ForceResetter(), yade.InsertionSortCollider([yade.Bo1_Sphere_Aabb()]),
-                      yade.InteractionLoop([yade.Ig2_Sphere_Sphere_ScGeom()],
-                                           [yade.Ip2_FrictMat_FrictMat_MindlinPhys()],
-                                           [yade.Law2_ScGeom_MindlinPhys_Mindlin(includeMoment=True)]),
-                      yade.NewtonIntegrator()]
     with pytest.raises(NotImplementedError, match="includeMoment"):
-        yade.O.step()
+        _step_with(yade, yade.Ip2_FrictMat_FrictMat_MindlinPhys(), yade.Law2_ScGeom_MindlinPhys_Mindlin(
+            includeMoment=True))
+
+
+@pytest.mark.parametrize("poisson", [1.0, 1.5])
+def test_poisson_outside_the_hertz_range_is_refused_naming_it(yade, poisson):
+    """E* needs 1 - nu^2 > 0 (nu < 0 is refused by FrictMat itself)."""
+    with pytest.raises(ValueError, match=f"poisson={poisson}"):
+        _step_with(yade, yade.Ip2_FrictMat_FrictMat_MindlinPhys(), yade.Law2_ScGeom_MindlinPhys_Mindlin(),
+                   yade.FrictMat(poisson=poisson))
+
+
+def test_the_values_of_yades_examples_stay_valid(yade):
+    """poisson 0.6 (examples/test/mindlin.py, Damping_HM.py), en 1, betan 0.5, gamma, krot: accepted."""
+    _step_with(yade, yade.Ip2_FrictMat_FrictMat_MindlinPhys(betan=0.5, gamma=0.1, krot=1.0, eta=0.5),
+               yade.Law2_ScGeom_MindlinPhys_Mindlin(), yade.FrictMat(young=600e6, poisson=0.6, density=2600))
+    yade.O.reset()
+    _step_with(yade, yade.Ip2_FrictMat_FrictMat_MindlinPhys(en=1.0, es=0.3), yade.Law2_ScGeom_MindlinPhys_Mindlin())
+    assert yade.O.interactions[0, 1].phys.betan == 0.0

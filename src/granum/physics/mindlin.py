@@ -109,6 +109,35 @@ registry.register_phys_type("MindlinPhys", "RotStiffFrictPhys", {
 _RESTITUTION = Range(0.0, 1.0, low_open=True, why="a restitution coefficient must lie in (0, 1]: 0 needs an "
                                                   "infinite damping and above 1 a collision creates energy")
 _RATIO = Range(0.0, why="a negative damping ratio feeds energy into the contact")
+#: Poisson's ratios for which E* and G* stay positive (FrictMat itself refuses nu < 0); YADE's examples
+#: use nu = 0.6 with Hertz-Mindlin (examples/test/mindlin.py), above the thermodynamic 0.5
+HERTZ_POISSON = Range(0.0, 1.0, high_open=True, why="Hertz-Mindlin's E* = 1/((1 - nu1^2)/E1 + (1 - nu2^2)/E2) "
+                                                   "needs 1 - nu^2 > 0")
+
+
+class MindlinIp2:
+    """Python side of Ip2_FrictMat_FrictMat_MindlinPhys (a mixin of its YADE class:
+    ``registry.Functor.python``): before a run it refuses, naming the value, what the formulas do not hold
+    for: its parameters outside their ranges, restitution coefficients given with damping ratios, and a
+    material of the scene's bodies whose Poisson's ratio is outside [0, 1)."""
+
+    def prepare(self, scene) -> None:
+        name = type(self).__name__
+        for p in self.spec.compiled_params():
+            if p.valid is not None:
+                p.check(name, float(getattr(self, p.name)))
+        check_damping(name, self.en, self.es, self.betan, self.betas)
+        b = scene.bodies
+        for k in sorted({int(m) for m in b.material[:b.count][b.alive[:b.count]]}):
+            mat = scene.materials[k]
+            nu = getattr(mat, "poisson", None)
+            if nu is not None and not HERTZ_POISSON.holds(float(nu)):
+                label = f" {mat.label!r}" if getattr(mat, "label", "") else ""
+                raise ValueError(f"{name}: material {k}{label} ({type(mat).__name__}) has poisson={nu!r}; "
+                                 f"Hertz-Mindlin needs a Poisson's ratio that {HERTZ_POISSON.says()} "
+                                 f"({HERTZ_POISSON.why})")
+
+
 IP2 = Functor(
     "Ip2_FrictMat_FrictMat_MindlinPhys", "phys", ("FrictMat", "FrictMat"), "MindlinPhys",
     f"{__name__}:phys_mindlin",
@@ -122,8 +151,9 @@ IP2 = Functor(
      Param("es", _NAN, "Shear restitution coefficient (NaN: not given) [-]", valid=_RESTITUTION),
      Param("betan", _NAN, "Normal viscous damping ratio c_n / c_n,crit (NaN: not given) [-]", valid=_RATIO),
      Param("betas", _NAN, "Shear viscous damping ratio (NaN: not given; then betan) [-]", valid=_RATIO),
-     Param("frictAngle", None, "Per-material-pair friction angle (MatchMaker); None: min of the two")),
-    "", HISTORY)
+     Param("frictAngle", None, "Per-material-pair friction angle (MatchMaker; not implemented yet: only None, "
+                               "the min of the materials')", supported=False)),
+    "", HISTORY, python=f"{__name__}:MindlinIp2")
 GAMMA = IP2.slot("gamma")
 EN = IP2.slot("en")
 ES = IP2.slot("es")
