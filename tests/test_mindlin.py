@@ -7,7 +7,11 @@ density 1000/2000, friction .5/.3), sphere 2 starting at x = dist with a velocit
 from __future__ import annotations
 
 import functools
+import json
 import math
+import os
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -270,3 +274,26 @@ def test_the_values_of_yades_examples_stay_valid(yade):
     yade.O.reset()
     _step_with(yade, yade.Ip2_FrictMat_FrictMat_MindlinPhys(en=1.0, es=0.3), yade.Law2_ScGeom_MindlinPhys_Mindlin())
     assert yade.O.interactions[0, 1].phys.betan == 0.0
+
+
+EXAMPLE = "/usr/share/doc/yade/examples/test/mindlin.py"
+
+
+@pytest.mark.skipif(not os.path.exists(EXAMPLE), reason="YADE's examples are not installed")
+def test_yades_example_runs_unmodified_and_plots_what_yade_plots(tmp_path):
+    """YADE's examples/test/mindlin.py under the granum launcher, its text executed as the reference script
+    (tests/reference/yade/mindlin_example.py) does under YADE: the same plot data (fn, un, kn per step)."""
+    out = tmp_path / "data.json"
+    script = tmp_path / "run_example.py"
+    script.write_text(f"import json\nwith open({EXAMPLE!r}) as f:\n    exec(compile(f.read(), {EXAMPLE!r}, 'exec'))\n"
+                      f"from yade import plot\njson.dump({{k: list(v) for k, v in plot.data.items()}}, "
+                      f"open({str(out)!r}, 'w'))\n")
+    r = subprocess.run([sys.executable, "-m", "granum", str(script)], capture_output=True, text=True, timeout=900,
+                       cwd=tmp_path)
+    assert r.returncode == 0, r.stderr[-3000:]
+    got = json.loads(out.read_text())
+    ref = reference("mindlin_example")["data"]
+    assert set(got) == set(ref) == {"fn", "un", "kn", "step"}
+    assert got["step"] == ref["step"]
+    for k in ("fn", "un", "kn"):
+        np.testing.assert_allclose(got[k], ref[k], rtol=1e-9, err_msg=k)
