@@ -64,21 +64,26 @@ def test_user_law_checkpoint_resumes_bit_for_bit(yade, user_cundall_strack):
     assert straight.tobytes() == resumed.tobytes()
 
 
-def test_spring_dashpot_example_rebounds_with_its_restitution(yade, capsys):
-    """examples/user_law.py: a user's material, physics type, physics and law; a linear spring-dashpot
-    collision rebounds with e_n exactly (half period of the damped oscillator), up to the integrator's
-    error, O((omega dt)^2) ~ 1e-4 here."""
+def test_spring_dashpot_example_restitution_and_rolling_moment(yade, capsys):
+    """examples/user_law.py: a user's material, physics type, physics and law with a contact moment.
+    A linear spring-dashpot collision rebounds with e_n exactly (half period of the damped oscillator),
+    up to the integrator's error, O((omega dt)^2) ~ 1e-4 here; the rolling moment grows as k_r w t,
+    k_r = alpha_r k_s R*^2, up to eta_r R* F_N, and reaches body 2's torque beside the lever arm's."""
     ns = yade.namespace()
-    ns["__name__"] = "__main__"
     exec(compile((ROOT / "examples" / "user_law.py").read_text(), "user_law.py", "exec"), ns)
-    assert yade.O.bodies[1].state.vel[2] == pytest.approx(0.5, abs=1e-3)
-    m, k = yade.O.bodies[1].state.mass, 1e7 * 0.01          # m* (the other sphere is fixed), k_n = E r
-    zeta = -math.log(0.5) / math.sqrt(math.pi ** 2 + math.log(0.5) ** 2)
-    assert ns["Law2_ScGeom_SpringDashpotPhys_Linear"].__name__ == "Law2_ScGeom_SpringDashpotPhys_Linear"
-    yade.O.bodies[1].state.vel = (0, 0, -1.0)               # collide again to read the contact's c_n
-    yade.O.bodies[1].state.pos = (0, 0, 0.0199)
-    yade.O.step()
-    assert yade.O.interactions[0, 1].phys.cn == pytest.approx(2 * zeta * math.sqrt(m * k), rel=1e-12)
+    out = capsys.readouterr().out
+    assert float(out.split("restitution: ")[1].split()[0]) == pytest.approx(0.5, abs=1e-3)
+    r_eff, kn, delta = 0.01 / 2, 1e7 * 0.01, 1e-4              # R*, k_n = E r, the pressed overlap
+    kr, limit = 1.0 * 0.3 * kn * r_eff ** 2, 0.1 * r_eff * kn * delta
+    i = yade.O.interactions[0, 1]
+    assert i.phys.kr == pytest.approx(kr, rel=1e-12)
+    first = out.split("rolling moment after ")[1]
+    t, moment = float(first.split(" s:")[0]), float(first.split(": ")[1].split()[0])
+    assert kr * t < limit and moment == pytest.approx(kr * t, rel=1e-2)   # t printed to 3 digits
+    assert -i.phys.rollMoment[0] == pytest.approx(limit, rel=1e-12)
+    arm = yade.Vector3(0, 0, -(0.01 - delta / 2))              # body 2's radial lever arm (sphericalBodies)
+    torque = yade.O.forces.t(1) - arm.cross(yade.O.forces.f(1))
+    assert (torque - i.phys.rollMoment).norm() <= 1e-12 * limit
 
 
 def _digest_of(source: str, **globs) -> str:

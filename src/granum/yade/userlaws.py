@@ -31,9 +31,11 @@ Arguments of a law ``(c, id1, id2, S, C, prm)``: ``c`` the contact's row in the 
 (float columns ``F_*``) and ``C.con_i`` (integer columns ``I_*``), ``id1``/``id2`` the bodies
 (body arrays ``S.pos[id]``, ``S.vel[id]``..., material row ``S.mat[S.material[id]]``), ``prm`` the
 functor's numeric parameters in the order declared (booleans as 0/1). Write the normal and shear
-force on body 2 into ``F_FN``/``F_FS`` (and a moment into the ``moment`` history group where the law
-declares one); return False to end the contact. A physics functor ``(c, id1, id2, S, C, prm)``
-computes the constants of a new contact (``F_KN``, ``F_KS``, ``F_TANPHI``, its own columns).
+force on body 2 into ``F_FN``/``F_FS`` (and, for a law with moments -- rolling, twisting, bending --, the
+moment on body 2 into ``F_MOMENT`` at every step, naming ``"moment"`` in its history: the force gather adds
+it to body 2's torque and its opposite to body 1's); return False to end the contact. A physics functor
+``(c, id1, id2, S, C, prm)`` computes the constants of a new contact (``F_KN``, ``F_KS``, ``F_TANPHI``, its
+own columns).
 """
 
 from __future__ import annotations
@@ -51,6 +53,7 @@ from granum.core.contacts import (
     F_FS,
     F_KN,
     F_KS,
+    F_MOMENT,
     F_NORMAL,
     F_PEN,
     F_POINT,
@@ -74,7 +77,8 @@ from granum.yade import materials as _materials
 __all__ = [
     "law", "phys", "phys_type", "material", "jit", "Param", "Range", "material_column",
     "F_NORMAL", "F_PEN", "F_POINT", "F_R1", "F_R2", "F_KN", "F_KS", "F_TANPHI", "F_FN", "F_FS",
-    "F_E_ELAST", "F_E_DISSIP", "I_FLAGS", "FLAG_RADIAL_ARMS", "S_DT", "S_TIME", "SI_ITER", "SI_TRACK_ENERGY",
+    "F_MOMENT", "F_E_ELAST", "F_E_DISSIP", "I_FLAGS", "FLAG_RADIAL_ARMS",
+    "S_DT", "S_TIME", "SI_ITER", "SI_TRACK_ENERGY",
     "contact_shift", "scgeom_incident_vel", "scgeom_ratchet", "scgeom_rotate_shear", "tangential",
     "add", "cross", "dot", "norm", "scale", "sub",
 ]
@@ -152,8 +156,7 @@ def _register(role: str, func, types: tuple, produces: str | None, params, histo
             raise ValueError(f"{name}: unknown geometry type {types[0]!r} (declared: {', '.join(registry.GEOM_TYPES)})")
         if types[1] not in registry.PHYS_TYPES:
             raise ValueError(f"{name}: unknown physics type {types[1]!r}; declare it with phys_type()")
-    if history is None:
-        history = _groups_of_phys(produces if role == "phys" else types[1])
+    history = tuple(dict.fromkeys(_groups_of_phys(produces if role == "phys" else types[1]) + tuple(history)))
     for g in history:
         if g not in HISTORY_COLUMNS:
             raise ValueError(f"{name}: unknown contact column group {g!r} (declared: {', '.join(HISTORY_COLUMNS)})")
@@ -167,15 +170,16 @@ def _register(role: str, func, types: tuple, produces: str | None, params, histo
     return cls
 
 
-def law(types, params=(), history=None):
+def law(types, params=(), history=()):
     """Decorator: register the function as the law functor of its name for the contacts of geometry
     ``types[0]`` and physics ``types[1]``, with numeric ``params`` ({name: default}, in the order of
-    ``prm``) and the contact column ``history`` groups it reads or writes (default: those of its physics
-    type). Returns the functor class (``Law2_...``)."""
+    ``prm``) and the contact column groups it reads or writes besides those of its physics type
+    (``history``; ``("moment",)`` for a law that writes the contact moment ``F_MOMENT``). Returns the
+    functor class (``Law2_...``)."""
     return lambda func: _register("law", func, tuple(types), None, params, history)
 
 
-def phys(materials, produces: str, params=(), history=None):
+def phys(materials, produces: str, params=(), history=()):
     """Decorator: register the function as the physics functor of its name, making contacts of type
     ``produces`` between bodies of the two ``materials``. Returns the functor class (``Ip2_...``)."""
     return lambda func: _register("phys", func, tuple(materials), produces, params, history)
