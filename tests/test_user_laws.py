@@ -167,3 +167,14 @@ def test_wrong_signature_and_bad_materials_are_refused():
         material("MyMat", "NoMat")
     with pytest.raises(ValueError, match="width is 1, 3 or 9"):
         phys_type("BadPhys", "FrictPhys", {"k": 2})
+
+
+def test_loading_a_checkpoint_before_its_law_is_defined_says_so(yade, user_cundall_strack, monkeypatch, tmp_path):
+    from granum.io.checkpoint import CheckpointError
+
+    _lattice(yade, user_cundall_strack(), n=2, steps=2)
+    yade.O.save(str(tmp_path / "user.yade"))
+    monkeypatch.delitem(yade._namespace, user_cundall_strack.__name__)   # as in a script that did not define it
+    with pytest.raises(CheckpointError, match="defined before O.load"):
+        yade.O.load(str(tmp_path / "user.yade"))
+    assert len(yade.O.bodies) == 2 ** 3 + 12                             # the scene is kept

@@ -103,6 +103,8 @@ _CODE_COLUMNS = {"geom": I_GEOM, "phys": I_PHYS, "law": I_LAW}
 _FIELD_NAMES = {"tags": "O.tags", "engines": "O.engines", "materials": "the materials of O.bodies"}
 _ARRAY_KINDS = "biuf"
 _MISSING = object()
+#: what a class or functor missing on load may be
+_USER_DEFINED = " (a law, physics or material written in a script, granum.yade.userlaws, is defined before O.load)"
 
 
 def _classes(namespace: dict) -> dict[str, type]:
@@ -288,7 +290,8 @@ class _Decoder:
         name = node["class"]
         cls = classes.get(name)
         if cls is None:
-            raise self.fail(f"the checkpoint holds an object of class {name!r}, which this granum does not have")
+            raise self.fail(f"the checkpoint holds an object of class {name!r}, which this granum does not have"
+                            f"{_USER_DEFINED}")
         kwargs, readonly, functor_lists = {}, {}, {}
         for n, v in node["attrs"].items():
             a = cls._attrs.get(n)
@@ -396,7 +399,8 @@ def _codes_translate(contacts, saved: dict, source: str) -> None:
             continue
         missing = [n for n in names if n not in now[role]]
         if missing:
-            raise CheckpointError(f"{source}: contacts use the functor {missing[0]}, which this granum does not have")
+            raise CheckpointError(f"{source}: contacts use the functor {missing[0]}, which this granum does not have"
+                                  f"{_USER_DEFINED}")
         lut = np.array([now[role].index(n) for n in names] + [-1], np.int32)  # code -1 stays -1
         codes = contacts.con_i[:k, col]
         if np.any((codes < -1) | (codes >= len(names))):
