@@ -1,13 +1,14 @@
 """Generated kernel modules.
 
-Three pieces of compiled code depend on run-time configuration: the conversions of a
-record kind (its fields, :mod:`granum.core.records`), the dispatch from functor codes
-to registered physics functions (it depends on the registry) and the fused step loop
-(it depends on the engine list). All are rendered as Python source, written to the
-cache directory and imported like ordinary modules, so that Numba can cache their
-compiled code on disk like any other kernel. The file name carries a hash of the
-source: a configuration seen before loads without recompiling. The module sits in
-the bottom layer, beside :mod:`granum._jit`, because the records of ``core`` use it.
+Some compiled code depends on run-time configuration: the conversions of a record kind
+(its fields, :mod:`granum.core.records`), the dispatch from functor codes to registered
+physics functions and the collider's branch to the registered shape reaches (they depend
+on the registry), and the fused step loop (it depends on the engine list). All are
+rendered as Python source, written to the cache directory and imported like ordinary
+modules, so that Numba can cache their compiled code on disk like any other kernel.
+The file name carries a hash of the source: a configuration seen before loads without
+recompiling. The module sits in the bottom layer, beside :mod:`granum._jit`, because
+the records of ``core`` use it.
 """
 
 from __future__ import annotations
