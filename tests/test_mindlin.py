@@ -19,7 +19,7 @@ from conftest import reference
 
 PHYS = ("kn", "ks", "kno", "kso", "normalForce", "shearForce", "shearElastic", "normalViscous", "shearViscous",
         "usElastic", "usTotal", "betan", "betas", "adhesionForce", "isSliding", "isAdhesive",
-        "tangensOfFrictionAngle", "radius")
+        "tangensOfFrictionAngle", "radius", "kr", "ktw", "maxBendPl", "momentBend", "momentTwist")
 ENERGIES = ("frictionDissipation", "shearEnergy", "normDampDissip", "shearDampDissip")
 METHODS = ("normElastEnergy", "ratioSlidingContacts", "contactsAdhesive")
 
@@ -90,6 +90,12 @@ RUNS = {
     "neverErase": lambda y: _run(y, y.Ip2_FrictMat_FrictMat_MindlinPhys(), y.Law2_ScGeom_MindlinPhys_Mindlin(
         neverErase=True), v2=(3, 0.3, 0), steps=30, dist=0.1995),
     **{f"hwls{k}": functools.partial(_hwls, non_lin=k) for k in range(4)},
+    "moment": lambda y: _run(y, y.Ip2_FrictMat_FrictMat_MindlinPhys(krot=3, ktwist=2),
+                             y.Law2_ScGeom_MindlinPhys_Mindlin(includeMoment=True), v2=(-1, 0.3, 0.2),
+                             w2=(5, 20, -10), w1=(3, -4, 6)),
+    "moment_plastic": lambda y: _run(y, y.Ip2_FrictMat_FrictMat_MindlinPhys(krot=3000, ktwist=2, eta=0.5, betan=0.1),
+                                     y.Law2_ScGeom_MindlinPhys_Mindlin(includeMoment=True, calcEnergy=True),
+                                     v2=(-1, 0.3, 0.2), w2=(5, 20, -10), w1=(3, -4, 6)),
     "box": lambda y: _run(y, y.Ip2_FrictMat_FrictMat_MindlinPhys(betan=0.2), y.Law2_ScGeom_MindlinPhys_Mindlin(
         calcEnergy=True), v2=(-1, 0.5, 0.2), w2=(1, 2, 3), dist=0.199, box=True),
 }
@@ -130,6 +136,9 @@ def test_the_reference_runs_exercise_sliding_damping_adhesion_and_the_clamp():
     assert not ref["damped"][-1]["real"] and not ref["restitution"][-1]["real"], "no separation"
     assert any(r.get("isAdhesive") for r in ref["adhesion"]) and not ref["adhesion"][-1]["real"]
     assert ref["neverErase"][-1]["real"] and ref["neverErase"][-1]["pen"] < 0
+    capped = [r for r in ref["moment_plastic"] if np.linalg.norm(r["momentBend"]) == pytest.approx(
+        r["maxBendPl"] * np.linalg.norm(r["normalForce"]), rel=1e-12)]
+    assert len(capped) > 20 and np.linalg.norm(ref["moment"][-1]["momentTwist"]) > 0
 
 
 def test_yade_defaults(yade):
@@ -251,12 +260,6 @@ def test_restitution_and_damping_ratio_together_are_refused(yade):
         with pytest.raises(ValueError, match=", ".join(kw)):
             _step_with(yade, yade.Ip2_FrictMat_FrictMat_MindlinPhys(**kw), yade.Law2_ScGeom_MindlinPhys_Mindlin())
         yade.O.reset()
-
-
-def test_include_moment_is_refused(yade):
-    with pytest.raises(NotImplementedError, match="includeMoment"):
-        _step_with(yade, yade.Ip2_FrictMat_FrictMat_MindlinPhys(), yade.Law2_ScGeom_MindlinPhys_Mindlin(
-            includeMoment=True))
 
 
 @pytest.mark.parametrize("poisson", [1.0, 1.5])

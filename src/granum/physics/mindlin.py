@@ -53,6 +53,7 @@ from granum.core.contacts import (
     F_FS,
     F_KN,
     F_KS,
+    F_MOMENT,
     F_NORMAL,
     F_PEN,
     F_R1,
@@ -77,7 +78,7 @@ from granum.physics.vec import add, dot, scale, sub
 _NAN = float("nan")
 
 #: per-contact columns of MindlinPhys (the group "mindlin"), offsets from F_MINDLIN
-F_MINDLIN = register_history("mindlin", 27)
+F_MINDLIN = register_history("mindlin", 36)
 F_KNO = F_MINDLIN           # kno: k_no = 4/3 E* sqrt(R*) [N/m^1.5]
 F_KSO = F_MINDLIN + 1       # kso: k_so = 8 G* sqrt(R*) [N/m^1.5]
 F_ADH = F_MINDLIN + 2       # adhesionForce: DMT pull-off force 4 pi R* gamma [N]
@@ -96,14 +97,23 @@ F_FRICT_DISSIP = F_MINDLIN + 23
 F_SHEAR_ENERGY = F_MINDLIN + 24
 F_NDAMP_DISSIP = F_MINDLIN + 25
 F_SDAMP_DISSIP = F_MINDLIN + 26
-HISTORY = ("mindlin",)
+F_KR = F_MINDLIN + 27           # kr: bending (rolling) stiffness of the moment law [N m/rad]
+F_KTW = F_MINDLIN + 28          # ktw: twisting stiffness [N m/rad]
+F_MAX_BEND = F_MINDLIN + 29     # maxBendPl: eta (R1 + R2)/2, the plastic bending moment per unit normal force [m]
+F_MOMENT_BEND = F_MINDLIN + 30  # 30..32 momentBend: bending moment on body 2 [N m]
+F_MOMENT_TWIST = F_MINDLIN + 33  # 33..35 momentTwist: twisting moment on body 2 [N m]
+F_MINDLIN_END = F_MINDLIN + 36
+#: the Mindlin columns, and the contact moment the force gather adds (includeMoment)
+HISTORY = ("mindlin", "moment")
 
 registry.register_phys_type("RotStiffFrictPhys", "FrictPhys")
 registry.register_phys_type("MindlinPhys", "RotStiffFrictPhys", {
     "kno": (F_KNO, 1), "kso": (F_KSO, 1), "adhesionForce": (F_ADH, 1), "betan": (F_BETAN, 1),
     "betas": (F_BETAS, 1), "shearElastic": (F_SHEAR_EL, 3), "isSliding": (F_SLIDING, 1),
     "isAdhesive": (F_ADHESIVE, 1), "normalViscous": (F_NVISC, 3), "shearViscous": (F_SVISC, 3),
-    "usElastic": (F_US_EL, 3), "usTotal": (F_US_TOT, 3), "radius": (F_RADIUS, 1)})
+    "usElastic": (F_US_EL, 3), "usTotal": (F_US_TOT, 3), "radius": (F_RADIUS, 1), "kr": (F_KR, 1),
+    "ktw": (F_KTW, 1), "maxBendPl": (F_MAX_BEND, 1), "momentBend": (F_MOMENT_BEND, 3),
+    "momentTwist": (F_MOMENT_TWIST, 3)})
 
 #: a restitution coefficient of Hertz-Mindlin damping: 0 would need an infinite damping
 _RESTITUTION = Range(0.0, 1.0, low_open=True, why="a restitution coefficient must lie in (0, 1]: 0 needs an "
@@ -155,6 +165,9 @@ IP2 = Functor(
                                "the min of the materials')", supported=False)),
     "", HISTORY, python=f"{__name__}:MindlinIp2")
 GAMMA = IP2.slot("gamma")
+ETA = IP2.slot("eta")
+KROT = IP2.slot("krot")
+KTWIST = IP2.slot("ktwist")
 EN = IP2.slot("en")
 ES = IP2.slot("es")
 BETAN = IP2.slot("betan")
@@ -219,14 +232,22 @@ def reduced_mass(id1, id2, S):
 
 
 @jit
-def effective_radius(c, C):
-    """R* = R1 R2 / (R1 + R2) of contact ``c`` [m] (a non-positive reference radius takes the other's)."""
+def reference_radii(c, C):
+    """The reference radii ``(R1, R2)`` of contact ``c`` [m], a non-positive one (a facet's, a box's) replaced
+    by the other."""
     r1 = C.con_f[c, F_R1]
     r2 = C.con_f[c, F_R2]
     if r1 <= 0.0:
         r1 = r2
     if r2 <= 0.0:
         r2 = r1
+    return r1, r2
+
+
+@jit
+def effective_radius(c, C):
+    """R* = R1 R2 / (R1 + R2) of contact ``c`` [m] (:func:`reference_radii`)."""
+    r1, r2 = reference_radii(c, C)
     return r1 * r2 / (r1 + r2)
 
 
@@ -246,7 +267,8 @@ def phys_mindlin(c, id1, id2, S, C, prm):
     g2 = e2 / (2.0 * (1.0 + v2))
     e_star = e1 * e2 / ((1.0 - v1 * v1) * e2 + (1.0 - v2 * v2) * e1)
     g_star = 1.0 / ((2.0 - v1) / g1 + (2.0 - v2) / g2)
-    r = effective_radius(c, C)
+    r1, r2 = reference_radii(c, C)
+    r = r1 * r2 / (r1 + r2)
     f[c, F_KNO] = 4.0 / 3.0 * e_star * math.sqrt(r)
     f[c, F_KSO] = 8.0 * g_star * math.sqrt(r)
     f[c, F_ADH] = 4.0 * math.pi * r * prm[GAMMA]
@@ -256,9 +278,14 @@ def phys_mindlin(c, id1, id2, S, C, prm):
     f[c, F_KN] = 0.0
     f[c, F_KS] = 0.0
     f[c, F_TANPHI] = math.tan(min(m1[M_FRICTION], m2[M_FRICTION]))
-    for k in range(F_SHEAR_EL, F_MINDLIN + 27):
+    for k in range(F_SHEAR_EL, F_MINDLIN_END):
         f[c, k] = 0.0
+    for k in range(3):
+        f[c, F_MOMENT + k] = 0.0
     f[c, F_RADIUS] = math.nan
+    f[c, F_KR] = prm[KROT]
+    f[c, F_KTW] = prm[KTWIST]
+    f[c, F_MAX_BEND] = prm[ETA] * 0.5 * (r1 + r2)
 
 
 registry.register_functor(replace(IP2, doc=phys_mindlin.py_func.__doc__))
@@ -269,12 +296,13 @@ LAW = Functor(
     (Param("includeAdhesion", False, "DMT adhesion: the normal force less adhesionForce, which may pull [-]"),
      Param("calcEnergy", False, "Accumulate the law's energies (frictionDissipation, shearEnergy, "
                                 "normDampDissip, shearDampDissip) and the contact radius [-]"),
-     Param("includeMoment", False, "Rolling and twisting moments (krot, ktwist, eta; not implemented yet: "
-                                   "only False)", supported=False),
+     Param("includeMoment", False, "Bending (rolling) and twisting moments with the Ip2's krot, ktwist and the "
+                                   "plastic limit eta (R1 + R2)/2 |F_N| (none when eta = 0) [-]"),
      Param("neverErase", False, "Keep contacts whose overlap became negative, with no force [-]"),
      Param("nothing", False, "YADE's placeholder for the deprecated preventGranularRatcheting (no effect) [-]")),
     "", HISTORY)
 INCLUDE_ADHESION = LAW.slot("includeAdhesion")
+INCLUDE_MOMENT = LAW.slot("includeMoment")
 CALC_ENERGY = LAW.slot("calcEnergy")
 NEVER_ERASE = LAW.slot("neverErase")
 
@@ -306,6 +334,32 @@ def store3(f, c, col, v):
     f[c, col] = v[0]
     f[c, col + 1] = v[1]
     f[c, col + 2] = v[2]
+
+
+@jit
+def contact_moments(c, id1, id2, S, C, n, rotation, fn_norm, dt):
+    """Bending and twisting moments of contact ``c`` (includeMoment), on body 2 (body 1 gets the opposite),
+    from the relative rotation of the step, split along the normal n:
+
+    .. math::
+        M_b \\leftarrow \\mathrm{rot}(M_b) - k_r (\\omega_{rel} - (\\omega_{rel}\\cdot n) n) \\Delta t,\\quad
+        M_t \\leftarrow \\mathrm{rot}(M_t) - k_{tw} (\\omega_{rel}\\cdot n) n \\Delta t,\\quad
+        |M_b| \\le \\mathrm{maxBendPl} |F_N|\\ (\\text{when maxBendPl} > 0)
+
+    with omega_rel = omega_2 - omega_1; rot() is the shear force's rotation. Written to the contact moment
+    (:data:`granum.core.contacts.F_MOMENT`) that the force gather adds."""
+    f = C.con_f
+    w = sub(load3(S.ang_vel, id2, 0), load3(S.ang_vel, id1, 0))
+    wn = dot(w, n)
+    mb = sub(rotate_tangential(load3(f, c, F_MOMENT_BEND), rotation), scale(sub(w, scale(n, wn)), f[c, F_KR] * dt))
+    mt = sub(rotate_tangential(load3(f, c, F_MOMENT_TWIST), rotation), scale(n, f[c, F_KTW] * wn * dt))
+    max_mb = f[c, F_MAX_BEND] * fn_norm
+    mb_norm = math.sqrt(dot(mb, mb))
+    if max_mb > 0.0 and mb_norm > max_mb:
+        mb = scale(mb, max_mb / mb_norm)
+    store3(f, c, F_MOMENT_BEND, mb)
+    store3(f, c, F_MOMENT_TWIST, mt)
+    store3(f, c, F_MOMENT, add(mb, mt))
 
 
 @jit
@@ -399,6 +453,8 @@ def law_mindlin(c, id1, id2, S, C, prm):
             f[c, F_SDAMP_DISSIP] += dot(svisc, scale(vs, dt))
         r = effective_radius(c, C)
         f[c, F_RADIUS] = ((fn_el + (f[c, F_ADH] if adhesion else 0.0)) * r ** 1.5 / kno) ** (1.0 / 3.0)
+    if prm[INCLUDE_MOMENT] != 0.0:
+        contact_moments(c, id1, id2, S, C, n, rotation, math.sqrt(dot(fn, fn)), dt)
     if S.iscal[SI_TRACK_ENERGY]:  # YADE's Mindlin adds nothing to O.energy
         f[c, F_E_ELAST] = 0.0
         f[c, F_E_DISSIP] = 0.0

@@ -6,6 +6,7 @@
 # Runs: 'default' (sliding reached), 'fixed' (sphere 1 fixed, betan/betas), 'damped' (free, betan .3,
 # betas .2, through the collision and the separation), 'restitution' (en .5, es .3), 'es_only', 'en1' (en = 1), 'en_near1',
 # 'adhesion' (gamma 10, includeAdhesion, separating past zero overlap), 'neverErase', 'hwls' (nonLin 0..3),
+# 'moment' (includeMoment: krot, ktwist), 'moment_plastic' (eta: the bending moment capped),
 # 'box' (Ig2_Box_Sphere_ScGeom). Also: the functors' dict() and the error of en and betan together.
 # Regenerate: cd tests/reference/yade && yade -n -x mindlin.py
 # YADE 2023.02a
@@ -14,7 +15,7 @@ from _common import dump, tojson
 
 PHYS = ('kn', 'ks', 'kno', 'kso', 'normalForce', 'shearForce', 'shearElastic', 'normalViscous', 'shearViscous',
         'usElastic', 'usTotal', 'betan', 'betas', 'adhesionForce', 'isSliding', 'isAdhesive',
-        'tangensOfFrictionAngle', 'radius')
+        'tangensOfFrictionAngle', 'radius', 'kr', 'ktw', 'maxBendPl', 'momentBend', 'momentTwist')
 
 
 def run(ip2, law, v2=(-1, 0.3, 0), w2=(0, 0, 5), w1=(0, 0, 0), fixed1=False, steps=40, dist=0.199, box=False, every=1):
@@ -74,6 +75,9 @@ data = {
     'hwls1': run(M(), Law2_ScGeom_MindlinPhys_HertzWithLinearShear(nonLin=1), v2=(-1, 3, 0), w1=(0, 1, 2)),
     'hwls2': run(M(), Law2_ScGeom_MindlinPhys_HertzWithLinearShear(nonLin=2), v2=(-1, 3, 0), w1=(0, 1, 2)),
     'hwls3': run(M(), Law2_ScGeom_MindlinPhys_HertzWithLinearShear(nonLin=3), v2=(-1, 3, 0), w1=(0, 1, 2)),
+    'moment': run(M(krot=3, ktwist=2), L(includeMoment=True), v2=(-1, .3, .2), w2=(5, 20, -10), w1=(3, -4, 6)),
+    'moment_plastic': run(M(krot=3000, ktwist=2, eta=.5, betan=.1), L(includeMoment=True, calcEnergy=True),
+                          v2=(-1, .3, .2), w2=(5, 20, -10), w1=(3, -4, 6)),
     'box': run(M(betan=.2), L(calcEnergy=True), v2=(-1, .5, .2), w2=(1, 2, 3), dist=0.199, box=True),
 }
 dump('mindlin', data)
