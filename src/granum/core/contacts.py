@@ -78,25 +78,42 @@ NF_CORE = 21
 HISTORY_COLUMNS: dict[str, tuple[int, int]] = {}
 
 
-def register_history(name: str, width: int) -> int:
+def register_history(name: str, width: int, after: tuple[str, ...] = ()) -> int:
     """Declare a group of per-contact float columns (a law's history); return its offset in ``con_f``.
 
     Functors that use the group name it in :attr:`granum.physics.registry.Functor.history`. Groups are
     appended, so a group declared later (a user's law, :mod:`granum.yade.userlaws`) moves no other
     one; declaring a group again with the same width returns its offset (a script run twice).
+
+    With ``after`` (groups declared before), the group starts where the last of them ends instead, sharing
+    its columns with the groups declared in between: the pools of the laws using it stay narrow. That is
+    for groups that no contact uses together with those (another contact law, another geometry): each
+    contact uses the groups of its own functors only, its row starts zeroed, and the interaction loop
+    refuses a plan in which one contact's functors would use two groups sharing a column
+    (:func:`shared_columns`).
     """
     if name in HISTORY_COLUMNS:
         offset, old_width = HISTORY_COLUMNS[name]
         if old_width != width:
             raise ValueError(f"contact history column group {name!r} is already declared with width {old_width}")
         return offset
-    offset = nf()
+    offset = max(sum(HISTORY_COLUMNS[g]) for g in after) if after else nf()
     HISTORY_COLUMNS[name] = (offset, width)
     return offset
 
 
+def shared_columns(groups) -> tuple[str, str] | None:
+    """Two of the history groups ``groups`` that share a column (see :func:`register_history`), or None."""
+    spans = sorted((HISTORY_COLUMNS[g][0], HISTORY_COLUMNS[g][0] + HISTORY_COLUMNS[g][1], g) for g in set(groups))
+    for (_, end, a), (start, _, b) in zip(spans, spans[1:], strict=False):
+        if start < end:
+            return a, b
+    return None
+
+
 def nf() -> int:
-    """Number of float columns of a contact when every group is in use."""
+    """Number of float columns of a contact when every group is in use (an upper bound when groups share
+    columns)."""
     return NF_CORE + sum(w for _, w in HISTORY_COLUMNS.values())
 
 

@@ -13,7 +13,7 @@ import functools
 import numpy as np
 
 from granum.core.attrs import Attr, instance_of, only_default, to_bool, to_float, to_int
-from granum.core.contacts import contact_width
+from granum.core.contacts import contact_width, shared_columns
 from granum.core.shapes import ShapeKind
 from granum.engines.base import GlobalEngine
 from granum.engines.functors import check_role, functor_table
@@ -210,6 +210,7 @@ class InteractionLoop(GlobalEngine):
         for f in self.functors():
             f.prepare(scene)
         t = self.tables(scene)
+        self.check_contact_columns(scene, t)
         geom_tab = functor_table("geom", self.geomDispatcher.functors, scene.contact_functors("geom"))
         # pairs skip detection on budgets computed with these functors (see interaction.detect_pair)
         scene.detection_uses(t["geom_code"].tobytes() + t["geom_swap"].tobytes() + geom_tab[1].tobytes())
@@ -220,6 +221,23 @@ class InteractionLoop(GlobalEngine):
             phys_type=t["phys_type"], law_code=t["law_code"],
             law_tab=functor_table("law", self.lawDispatcher.functors, scene.contact_functors("law")),
             pair_ok=t["pair_ok"], width=contact_width(self.contact_groups(scene)))
+
+    def check_contact_columns(self, scene, t) -> None:
+        """Refuse a plan in which one contact's functors (geometry, physics and the law they dispatch to, the
+        listed ones and those of existing contacts) would use two history groups that share a column
+        (:func:`granum.core.contacts.register_history`), naming them."""
+        geoms = {f.code for f in self.geomDispatcher.functors} | set(scene.contact_functors("geom"))
+        physs = {f.code for f in self.physDispatcher.functors} | set(scene.contact_functors("phys"))
+        specs = {role: functors(role) for role in ("geom", "phys", "law")}
+        for g in geoms:
+            for p in physs:
+                law = int(t["law_code"][t["geom_type"][g], t["phys_type"][p]])
+                used = [specs["geom"][g], specs["phys"][p]] + ([specs["law"][law]] if law >= 0 else [])
+                clash = shared_columns(h for f in used for h in f.history)
+                if clash:
+                    raise ValueError(f"InteractionLoop: a contact of {', '.join(f.yade_name for f in used)} would keep "
+                                     f"the histories {clash[0]!r} and {clash[1]!r}, which share contact columns in "
+                                     f"granum: these functors cannot act on one contact")
 
     def contact_groups(self, scene) -> set[str]:
         """The ``con_f`` column groups this loop's contacts need: the history its functors declare, and

@@ -19,7 +19,6 @@ from granum.physics import (  # noqa: F401  (imported for their registrations)
     wall,
 )
 
-# Registered after the others because the contact pool's history columns come in registration order: a plan
-# is as wide as the last group it uses, so these laws' groups (ScGeom6D, cohesion) come after the older ones
-# and leave their pools as narrow as they were.
+# Registered after the others: its history groups (ScGeom6D, cohesion) share columns with the older laws'
+# (register_history(after=...)) and move none of them.
 importlib.import_module("granum.physics.cohfrict")   # ScGeom6D (physics.scgeom6d) and the cohesive law

@@ -36,7 +36,9 @@ from granum.physics.sphere import geom_sphere_sphere
 from granum.physics.vec import load4, quat_mul
 
 #: orientation of body 1 when the contact began (w, x, y, z) [-]
-G6_ORI1 = register_history("scgeom6d", 12)
+# after the core groups, sharing its columns with the histories of other geometries and laws (L3Geom's, ...):
+# no contact has both (checked per plan), and the pools of cohesive packings stay narrow
+G6_ORI1 = register_history("scgeom6d", 12, after=("energy", "moment"))
 #: orientation of body 2 when the contact began (w, x, y, z) [-]
 G6_ORI2 = G6_ORI1 + 4
 #: twist: relative rotation about the normal [rad]
