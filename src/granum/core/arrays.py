@@ -59,7 +59,7 @@ def declare_material(kind: str, columns) -> None:
 def _scene_fields() -> list[tuple[str, str, int]]:
     fields = [(c.name, c.dtype, 1 + len(c.tail)) for c in BODY_COLUMNS]
     for shape in SHAPES:
-        fields += [(shape.field(c.name), c.dtype, 1 + len(c.tail)) for c in shape.columns]
+        fields += [(shape.record_field(c.name), c.dtype, 1 + len(c.tail)) for c in shape.columns]
     fields += [
         ("mat_kind", "i4", 1),      # material class code of each material row, (M,)
         ("mat", "f8", 2),           # material parameters, columns named by the registry, (M, ncol)

@@ -247,7 +247,7 @@ class Scene(BodyStore):
             b.allocate("ang_mom")
         values = {c.name: b.stored(c.name) for c in b.columns}
         for kind, table in self.shapes.items():
-            values.update({shape_type(kind).field(c.name): table.stored(c.name) for c in table.columns})
+            values.update({shape_type(kind).record_field(c.name): table.stored(c.name) for c in table.columns})
         values.update(mat_kind=mat_kind, mat=mat, cell_hsize=self.cell_hsize, cell_velgrad=self.cell_velgrad,
                       cell_prev_velgrad=self.cell_prev_velgrad, cell_trsf=self.cell_trsf,
                       cell_bound_hsize=self.cell_bound_hsize, clump_members=self.clump_members.id,

@@ -58,7 +58,7 @@ class ShapeType:
     mass: Callable | None = None
     faces: Callable | None = None
 
-    def field(self, column: str) -> str:
+    def record_field(self, column: str) -> str:
         """Name of the kernel record's field holding ``column`` of this kind's table (``sphere_radius``)."""
         return f"{self.name.lower()}_{column}"
 
