@@ -109,8 +109,8 @@ HISTORY = ("mindlin", "moment")
 registry.register_phys_type("RotStiffFrictPhys", "FrictPhys")
 registry.register_phys_type("MindlinPhys", "RotStiffFrictPhys", {
     "kno": (F_KNO, 1), "kso": (F_KSO, 1), "adhesionForce": (F_ADH, 1), "betan": (F_BETAN, 1),
-    "betas": (F_BETAS, 1), "shearElastic": (F_SHEAR_EL, 3), "isSliding": (F_SLIDING, 1),
-    "isAdhesive": (F_ADHESIVE, 1), "normalViscous": (F_NVISC, 3), "shearViscous": (F_SVISC, 3),
+    "betas": (F_BETAS, 1), "shearElastic": (F_SHEAR_EL, 3), "isSliding": (F_SLIDING, 1, "bool"),
+    "isAdhesive": (F_ADHESIVE, 1, "bool"), "normalViscous": (F_NVISC, 3), "shearViscous": (F_SVISC, 3),
     "usElastic": (F_US_EL, 3), "usTotal": (F_US_TOT, 3), "radius": (F_RADIUS, 1), "kr": (F_KR, 1),
     "ktw": (F_KTW, 1), "maxBendPl": (F_MAX_BEND, 1), "momentBend": (F_MOMENT_BEND, 3),
     "momentTwist": (F_MOMENT_TWIST, 3)})
