@@ -63,6 +63,7 @@ from granum.core.contacts import (
 )
 from granum.physics import materials, registry
 from granum.physics.frict import M_FRICTION
+from granum.physics.l3geom import load_row, store_row
 from granum.physics.materials import NON_NEGATIVE
 from granum.physics.registry import Functor, Param, Range
 from granum.physics.scgeom import (
@@ -73,7 +74,7 @@ from granum.physics.scgeom import (
     scgeom_rotate_shear,
     scgeom_shear_rotation,
 )
-from granum.physics.vec import add, dot, scale, sub
+from granum.physics.vec import add, dot, load3, scale, sub
 
 _NAN = float("nan")
 
@@ -325,18 +326,6 @@ def separated(c, S, C, never_erase):
 
 
 @jit
-def load3(f, c, col):
-    return (f[c, col], f[c, col + 1], f[c, col + 2])
-
-
-@jit
-def store3(f, c, col, v):
-    f[c, col] = v[0]
-    f[c, col + 1] = v[1]
-    f[c, col + 2] = v[2]
-
-
-@jit
 def contact_moments(c, id1, id2, S, C, n, rotation, fn_norm, dt):
     """Bending and twisting moments of contact ``c`` (includeMoment), on body 2 (body 1 gets the opposite),
     from the relative rotation of the step, split along the normal n:
@@ -349,17 +338,17 @@ def contact_moments(c, id1, id2, S, C, n, rotation, fn_norm, dt):
     with omega_rel = omega_2 - omega_1; rot() is the shear force's rotation. Written to the contact moment
     (:data:`granum.core.contacts.F_MOMENT`) that the force gather adds."""
     f = C.con_f
-    w = sub(load3(S.ang_vel, id2, 0), load3(S.ang_vel, id1, 0))
+    w = sub(load3(S.ang_vel, id2), load3(S.ang_vel, id1))
     wn = dot(w, n)
-    mb = sub(rotate_tangential(load3(f, c, F_MOMENT_BEND), rotation), scale(sub(w, scale(n, wn)), f[c, F_KR] * dt))
-    mt = sub(rotate_tangential(load3(f, c, F_MOMENT_TWIST), rotation), scale(n, f[c, F_KTW] * wn * dt))
+    mb = sub(rotate_tangential(load_row(f, c, F_MOMENT_BEND), rotation), scale(sub(w, scale(n, wn)), f[c, F_KR] * dt))
+    mt = sub(rotate_tangential(load_row(f, c, F_MOMENT_TWIST), rotation), scale(n, f[c, F_KTW] * wn * dt))
     max_mb = f[c, F_MAX_BEND] * fn_norm
     mb_norm = math.sqrt(dot(mb, mb))
     if max_mb > 0.0 and mb_norm > max_mb:
         mb = scale(mb, max_mb / mb_norm)
-    store3(f, c, F_MOMENT_BEND, mb)
-    store3(f, c, F_MOMENT_TWIST, mt)
-    store3(f, c, F_MOMENT, add(mb, mt))
+    store_row(f, c, F_MOMENT_BEND, mb)
+    store_row(f, c, F_MOMENT_TWIST, mt)
+    store_row(f, c, F_MOMENT, add(mb, mt))
 
 
 @jit
@@ -389,9 +378,9 @@ def law_mindlin(c, id1, id2, S, C, prm):
     ks = f[c, F_KSO] * sqrt_pen
     f[c, F_KN] = kn
     f[c, F_KS] = ks
-    n = load3(f, c, F_NORMAL)
+    n = load_row(f, c, F_NORMAL)
     rotation = scgeom_shear_rotation(c, id1, id2, S, C)
-    fs_el = rotate_tangential(load3(f, c, F_SHEAR_EL), rotation)
+    fs_el = rotate_tangential(load_row(f, c, F_SHEAR_EL), rotation)
     fs_prev = fs_el
     shift, shift_vel = contact_shift(c, S, C)
     v = scgeom_incident_vel(c, id1, id2, S, C, shift, shift_vel, scgeom_ratchet(c, C))
@@ -415,10 +404,10 @@ def law_mindlin(c, id1, id2, S, C, prm):
     if not adhesion and dot(fn, n) < 0.0:   # no attraction: the viscous part at most cancels the elastic one
         fn = (0.0, 0.0, 0.0)
         nvisc = scale(n, fn_el)
-    us_el = rotate_tangential(load3(f, c, F_US_EL), rotation)
+    us_el = rotate_tangential(load_row(f, c, F_US_EL), rotation)
     us_el_prev = us_el
     us_el = add(us_el, du)
-    us_tot = rotate_tangential(load3(f, c, F_US_TOT), rotation)
+    us_tot = rotate_tangential(load_row(f, c, F_US_TOT), rotation)
     us_tot_prev = us_tot
     us_tot = add(us_tot, du)
     # Coulomb
@@ -438,14 +427,14 @@ def law_mindlin(c, id1, id2, S, C, prm):
         svisc = scale(vs, cs)
         fs = sub(fs_el, svisc)
     f[c, F_SLIDING] = 1.0 if sliding else 0.0
-    store3(f, c, F_FN, fn)
-    store3(f, c, F_FS, fs)
-    store3(f, c, F_SHEAR_EL, fs_el)
+    store_row(f, c, F_FN, fn)
+    store_row(f, c, F_FS, fs)
+    store_row(f, c, F_SHEAR_EL, fs_el)
     if bn != 0.0 or bs != 0.0:   # undamped, the viscous parts stay 0 (the clamp needs a viscous part)
-        store3(f, c, F_NVISC, nvisc)
-        store3(f, c, F_SVISC, svisc)
-    store3(f, c, F_US_EL, us_el)
-    store3(f, c, F_US_TOT, us_tot)
+        store_row(f, c, F_NVISC, nvisc)
+        store_row(f, c, F_SVISC, svisc)
+    store_row(f, c, F_US_EL, us_el)
+    store_row(f, c, F_US_TOT, us_tot)
     if energy:
         f[c, F_SHEAR_ENERGY] += 0.5 * dot(sub(us_el, us_el_prev), add(fs_el, fs_prev))
         f[c, F_NDAMP_DISSIP] += dot(nvisc, scale(vn, dt))
@@ -489,11 +478,11 @@ def law_hertz_linear_shear(c, id1, id2, S, C, prm):
     pen = f[c, F_PEN]
     if pen < 0.0:
         return separated(c, S, C, prm[HWLS_NEVER_ERASE])
-    n = load3(f, c, F_NORMAL)
+    n = load_row(f, c, F_NORMAL)
     sqrt_pen = math.sqrt(pen)
     fn = scale(n, f[c, F_KNO] * pen * sqrt_pen)
     k = f[c, F_KSO] if prm[NON_LIN] == 0.0 else f[c, F_KSO] * sqrt_pen
-    fs = scgeom_rotate_shear(c, id1, id2, S, C, load3(f, c, F_FS))
+    fs = scgeom_rotate_shear(c, id1, id2, S, C, load_row(f, c, F_FS))
     shift, shift_vel = contact_shift(c, S, C)
     v = scgeom_incident_vel(c, id1, id2, S, C, shift, shift_vel, scgeom_ratchet(c, C))
     vs = sub(v, scale(n, dot(v, n)))
@@ -501,8 +490,8 @@ def law_hertz_linear_shear(c, id1, id2, S, C, prm):
     max_fs = math.sqrt(dot(fn, fn)) * f[c, F_TANPHI]
     if dot(fs, fs) > max_fs * max_fs:
         fs = scale(fs, max_fs / math.sqrt(dot(fs, fs)))
-    store3(f, c, F_FN, fn)
-    store3(f, c, F_FS, fs)
+    store_row(f, c, F_FN, fn)
+    store_row(f, c, F_FS, fs)
     if S.iscal[SI_TRACK_ENERGY]:
         f[c, F_E_ELAST] = 0.0
         f[c, F_E_DISSIP] = 0.0
