@@ -112,9 +112,8 @@ def shared_columns(groups) -> tuple[str, str] | None:
 
 
 def nf() -> int:
-    """Number of float columns of a contact when every group is in use (an upper bound when groups share
-    columns)."""
-    return NF_CORE + sum(w for _, w in HISTORY_COLUMNS.values())
+    """Number of float columns of a contact when every group is in use: where the last group ends."""
+    return max([NF_CORE] + [offset + width for offset, width in HISTORY_COLUMNS.values()])
 
 
 def contact_width(groups) -> int:
