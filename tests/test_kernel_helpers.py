@@ -74,6 +74,7 @@ def test_prefetching_gather_gives_the_same_forces(yade):
     as the InteractionLoop's own gather left them in the last step."""
     from granum._jit import call
     from granum.core.contacts import CONTACTS
+    from granum.kernels.dispatch import code_of, functor_set
     from granum.kernels.interaction import gather
 
     O = yade.O
@@ -95,7 +96,7 @@ def test_prefetching_gather_gives_the_same_forces(yade):
     for ahead in (0, 1, 4, 16, n**3):
         scene.bodies.force[:nb] = 0.0
         scene.bodies.torque[:nb] = 0.0
-        call(gather, S, C, nb, ahead)
+        call(gather, S, C, nb, ahead, functor_set("law", [code_of("Law2_ScGeom_FrictPhys_CundallStrack")]))
         results.append((scene.bodies.force[:nb].copy(), scene.bodies.torque[:nb].copy()))
     force, torque = results[0]
     assert np.abs(force).max() > 0 and np.abs(torque).max() > 0
