@@ -184,3 +184,25 @@ def test_the_step_loops_type_key_separates_what_numba_types_apart():
         for b in values:
             assert (_type_key(a) == _type_key(b)) == (numba.typeof(a) == numba.typeof(b)), (a, b)
     assert _type_key(np.ones(5)) == _type_key(np.zeros(7))
+
+
+def test_cache_directories_in_use_are_not_pruned(tmp_path, monkeypatch):
+    """Only the newest cache directories of other granum versions are kept, and any used within
+    CACHE_IN_USE_S (a process of another version may be compiling into it: pruning it under that
+    process made its compile lock vanish)."""
+    import time
+
+    from granum import _jit
+
+    monkeypatch.setenv("GRANUM_CACHE_DIR", str(tmp_path))
+    now = time.time()
+    ages = {"recent": 3600.0, "old1": 3 * 86400, "old2": 4 * 86400, "old3": 5 * 86400, "old4": 6 * 86400,
+            "old5": 7 * 86400}
+    for name, age in ages.items():
+        (tmp_path / name).mkdir()
+        os.utime(tmp_path / name, (now - age, now - age))
+    _jit._prune_old_caches(keep=3)
+    # the three newest stay; with none to keep, the one used recently still stays
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["old1", "old2", "recent"]
+    _jit._prune_old_caches(keep=0)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["recent"]

@@ -16,6 +16,7 @@ import hashlib
 import os
 import pathlib
 import shutil
+import time
 import types
 
 import filelock
@@ -54,23 +55,37 @@ SOURCE_HASH = source_hash()
 CACHE_DIR = cache_root() / (SOURCE_HASH + ("-nopar" if SERIAL_ONLY else ""))
 
 
+#: A cache directory used within this time is kept even when it is not among the newest [s]: a process of
+#: another granum version (another environment, a job still running) may be using it.
+CACHE_IN_USE_S = 2 * 86400
+
+
 def _prune_old_caches(keep: int = 3) -> None:
-    """Remove cache directories of older granum sources, keeping the newest few."""
+    """Remove cache directories of older granum sources, keeping the newest few and those used recently
+    (each process marks its own directory as used when it starts and when it compiles)."""
     root = cache_root()
+    now = time.time()
     try:
         dirs = sorted((d for d in root.iterdir() if d.is_dir() and d.name != CACHE_DIR.name),
                       key=lambda d: d.stat().st_mtime, reverse=True)
+        old = [d for d in dirs[keep:] if now - d.stat().st_mtime > CACHE_IN_USE_S]
     except OSError:
         return
-    for d in dirs[keep:]:
+    for d in old:
         shutil.rmtree(d, ignore_errors=True)
+
+
+def _mark_cache_used() -> None:
+    """Create this version's cache directory if needed and mark it as used now (its modification time)."""
+    CACHE_DIR.mkdir(parents=True, exist_ok=True)
+    os.utime(CACHE_DIR)
 
 
 def _configure_numba() -> None:
     import numba
 
     if not os.environ.get("NUMBA_CACHE_DIR"):
-        CACHE_DIR.mkdir(parents=True, exist_ok=True)
+        _mark_cache_used()
         numba.config.CACHE_DIR = str(CACHE_DIR / "numba")
         _prune_old_caches()
 
@@ -154,7 +169,7 @@ def compile_lock():
     processes then load the freshly cached code instead of compiling it again.
     The lock is a portable file lock (:mod:`filelock`: ``fcntl`` on POSIX, ``msvcrt`` on Windows).
     """
-    CACHE_DIR.mkdir(parents=True, exist_ok=True)
+    _mark_cache_used()
     with filelock.FileLock(CACHE_DIR / "compile.lock"):
         yield
 

@@ -129,8 +129,9 @@ M_FRAGILE = materials.column("coh_fragile")
 M_MOMENT_LAW = materials.column("coh_moment_law")
 
 #: rolling (bending) stiffness [N m/rad]
-#: (after ScGeom6D's columns, sharing its own with other laws' histories, as ScGeom6D does: see physics.scgeom6d)
-CF_KR = register_history("cohfrict", 20, after=("scgeom6d",))
+#: (after the energies and the moment, sharing its columns with the other laws' histories, which no cohesive
+#: contact uses: see physics.scgeom6d)
+CF_KR = register_history("cohfrict", 20, after=("energy", "moment"))
 CF_KTW = CF_KR + 1                 # twisting stiffness [N m/rad]
 CF_NORMAL_ADHESION = CF_KR + 2     # tensile strength of the contact a_n [N]
 CF_SHEAR_ADHESION = CF_KR + 3      # cohesive part of the shear strength a_s [N]

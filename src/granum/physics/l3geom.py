@@ -54,7 +54,7 @@ from granum.physics.vec import (
 )
 
 #: local displacement u (normal, tangent 1, tangent 2) [m]
-L3_U = register_history("l3geom", 18)
+L3_U = register_history("l3geom", 18, after=("energy",))  # no law with moments uses L3Geom
 #: origin of the displacement u0 (equilibrium normal distance, plastic slip) [m]
 L3_U0 = L3_U + 3
 #: local frame T, row by row (normal, tangent 1, tangent 2) [-]

@@ -79,7 +79,7 @@ from granum.physics.vec import add, dot, load3, scale, sub
 _NAN = float("nan")
 
 #: per-contact columns of MindlinPhys (the group "mindlin"), offsets from F_MINDLIN
-F_MINDLIN = register_history("mindlin", 36)
+F_MINDLIN = register_history("mindlin", 36, after=("energy", "moment"))
 F_KNO = F_MINDLIN           # kno: k_no = 4/3 E* sqrt(R*) [N/m^1.5]
 F_KSO = F_MINDLIN + 1       # kso: k_so = 8 G* sqrt(R*) [N/m^1.5]
 F_ADH = F_MINDLIN + 2       # adhesionForce: DMT pull-off force 4 pi R* gamma [N]

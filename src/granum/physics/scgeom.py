@@ -13,7 +13,7 @@ References:
 from __future__ import annotations
 
 from granum._jit import jit
-from granum.core.arrays import SI_PERIODIC
+from granum.core.arrays import S_DT, SI_PERIODIC
 from granum.core.contacts import (
     F_NORMAL,
     F_PEN,
@@ -74,7 +74,7 @@ def scgeom_shear_rotation(c, id1, id2, S, C):
     n0 = (f[c, F_PREV_NORMAL], f[c, F_PREV_NORMAL + 1], f[c, F_PREV_NORMAL + 2])
     orth = cross(n0, n)
     w = add(load3(S.ang_vel, id1), load3(S.ang_vel, id2))
-    return orth, scale(n0, 0.5 * S.scal[0] * dot(n0, w))
+    return orth, scale(n0, 0.5 * S.scal[S_DT] * dot(n0, w))
 
 
 @jit

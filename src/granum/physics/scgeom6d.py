@@ -36,9 +36,10 @@ from granum.physics.sphere import geom_sphere_sphere
 from granum.physics.vec import load4, quat_mul
 
 #: orientation of body 1 when the contact began (w, x, y, z) [-]
-# after the core groups, sharing its columns with the histories of other geometries and laws (L3Geom's, ...):
-# no contact has both (checked per plan), and the pools of cohesive packings stay narrow
-G6_ORI1 = register_history("scgeom6d", 12, after=("energy", "moment"))
+# after the groups of the laws that may run on it (every ScGeom law: the moment, Hertz-Mindlin's, the
+# visco-elastic ones; the cohesion's lies among them), so that those laws' own pools stay narrow; it shares its
+# columns with L3Geom's (no contact has both geometries; checked per plan). physics/__init__ imports it last.
+G6_ORI1 = register_history("scgeom6d", 12, after=("moment", "mindlin", "viscel_shear_elastic"))
 #: orientation of body 2 when the contact began (w, x, y, z) [-]
 G6_ORI2 = G6_ORI1 + 4
 #: twist: relative rotation about the normal [rad]

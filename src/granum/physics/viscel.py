@@ -74,12 +74,12 @@ registry.register_material(MaterialKind(
              "ks": "visc_ks", "cs": "visc_cs"},
     doc="Material of the linear visco-elastic contact (spring-dashpot with Coulomb friction)."))
 #: normal and shear damping coefficients of the contact (ViscElPhys cn, cs) [N s/m]
-F_CN = register_history("viscel_damping", 2)
+F_CN = register_history("viscel_damping", 2, after=("energy",))  # ViscEl writes no moment (yet)
 F_CS = F_CN + 1
 registry.register_phys_type("ViscElPhys", "FrictPhys", {"cn": (F_CN, 1), "cs": (F_CS, 1)})
 
 #: elastic part of the shear force (the spring's state; F_FS also holds the dashpot part) [N]
-F_SHEAR_EL = register_history("viscel_shear_elastic", 3)
+F_SHEAR_EL = register_history("viscel_shear_elastic", 3, after=("viscel_damping",))
 #: the history groups both viscoelastic functors use
 HISTORY = ("viscel_damping", "viscel_shear_elastic")
 
