@@ -50,6 +50,7 @@ from granum.engines.pipeline import (
 )
 from granum.engines.pyrunner import PyRunner
 from granum.engines.runner import SimulationError
+from granum.engines.timestepper import GlobalStiffnessTimeStepper, TimeStepper
 from granum.idem import IDEMSolver
 from granum.mathtypes import Matrix3, Quaternion, Vector2, Vector2i, Vector3, Vector3i, Vector6
 from granum.yade import (  # noqa: F401 - the yade.X modules
@@ -113,7 +114,7 @@ _namespace.update(
     InsertionSortCollider=InsertionSortCollider, InteractionLoop=InteractionLoop, NewtonIntegrator=NewtonIntegrator,
     PyRunner=PyRunner, PeriTriaxController=PeriTriaxController, Dispatcher=Dispatcher,
     BoundDispatcher=BoundDispatcher, IGeomDispatcher=IGeomDispatcher, IPhysDispatcher=IPhysDispatcher,
-    LawDispatcher=LawDispatcher,
+    LawDispatcher=LawDispatcher, TimeStepper=TimeStepper, GlobalStiffnessTimeStepper=GlobalStiffnessTimeStepper,
     ForceEngine=ForceEngine, TranslationEngine=TranslationEngine, RotationEngine=RotationEngine,
     KinematicEngine=KinematicEngine, HelixEngine=HelixEngine, CombinedKinematicEngine=CombinedKinematicEngine,
     ParallelEngine=ParallelEngine,
