@@ -51,6 +51,7 @@ from granum.engines.pipeline import (
 from granum.engines.pyrunner import PyRunner
 from granum.engines.runner import SimulationError
 from granum.engines.timestepper import GlobalStiffnessTimeStepper, TimeStepper
+from granum.engines.triaxial import TriaxialStressController
 from granum.idem import IDEMSolver
 from granum.mathtypes import Matrix3, Quaternion, Vector2, Vector2i, Vector3, Vector3i, Vector6
 from granum.yade import (  # noqa: F401 - the yade.X modules
@@ -115,6 +116,7 @@ _namespace.update(
     PyRunner=PyRunner, PeriTriaxController=PeriTriaxController, Dispatcher=Dispatcher,
     BoundDispatcher=BoundDispatcher, IGeomDispatcher=IGeomDispatcher, IPhysDispatcher=IPhysDispatcher,
     LawDispatcher=LawDispatcher, TimeStepper=TimeStepper, GlobalStiffnessTimeStepper=GlobalStiffnessTimeStepper,
+    TriaxialStressController=TriaxialStressController,
     ForceEngine=ForceEngine, TranslationEngine=TranslationEngine, RotationEngine=RotationEngine,
     KinematicEngine=KinematicEngine, HelixEngine=HelixEngine, CombinedKinematicEngine=CombinedKinematicEngine,
     ParallelEngine=ParallelEngine,

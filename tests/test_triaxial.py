@@ -1,0 +1,150 @@
+"""TriaxialStressController on an elastic lattice of known stiffness (closed forms), its outputs, and bad input.
+
+The sample is a simple cubic lattice of n³ equal spheres (radius r, FrictMat E) touching each other and the six
+walls of ``aabbWalls``: along each axis n² independent chains of n spheres and n + 1 contacts of stiffness
+kn = E r in series, so a stress s on the faces shortens each size L = 2 r n by 4 r² (n + 1) |s| / kn.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+N, R, E = 3, 0.05, 1e7
+L = 2 * R * N
+KN = E * R
+
+
+def _lattice(y, radius=R, friction=0.5):
+    y.O.materials.append(y.FrictMat(young=E, poisson=0.5, frictionAngle=friction, density=2600, label="spheres"))
+    y.O.materials.append(y.FrictMat(young=E, poisson=0.5, frictionAngle=0, density=0, label="walls"))
+    y.O.bodies.append(y.aabbWalls([(0, 0, 0), (L, L, L)], thickness=0, material="walls"))
+    y.O.bodies.append([y.sphere(((2 * i + 1) * R, (2 * j + 1) * R, (2 * k + 1) * R), radius, material="spheres")
+                       for i in range(N) for j in range(N) for k in range(N)])
+
+
+def _engines(y, triax, damping=0.2):
+    y.O.engines = [y.ForceResetter(), y.InsertionSortCollider([y.Bo1_Sphere_Aabb(), y.Bo1_Box_Aabb()]),
+                   y.InteractionLoop([y.Ig2_Sphere_Sphere_ScGeom(), y.Ig2_Box_Sphere_ScGeom()],
+                                     [y.Ip2_FrictMat_FrictMat_FrictPhys()], [y.Law2_ScGeom_FrictPhys_CundallStrack()]),
+                   y.GlobalStiffnessTimeStepper(timeStepUpdateInterval=10), triax,
+                   y.NewtonIntegrator(damping=damping)]
+
+
+def _shortening(stress):
+    """Closed form: how much a size of the lattice shortens under ``stress`` [m]."""
+    return 4 * R ** 2 * (N + 1) * abs(stress) / KN
+
+
+def test_stress_goals_held_on_an_elastic_lattice(yade):
+    """Three different stress goals: each wall's stress within 0.5 % of its goal, and each size shortened as
+    the chains' stiffness says (to 2 %: the wall contacts see the sphere slightly off-centre)."""
+    _lattice(yade)
+    goals = (-1e4, -2e4, -3e4)
+    triax = yade.TriaxialStressController(internalCompaction=False, stressMask=7, goal1=goals[0], goal2=goals[1],
+                                          goal3=goals[2], thickness=0, computeStressStrainInterval=1)
+    _engines(yade, triax)
+    yade.O.run(4000, True)
+    for w in range(6):
+        assert triax.stress(w)[w // 2] == pytest.approx(goals[w // 2], rel=5e-3), f"wall {w}"
+    sizes = (triax.width, triax.height, triax.depth)
+    for a in range(3):
+        assert L - sizes[a] == pytest.approx(_shortening(goals[a]), rel=0.02)
+        assert triax.strain[a] == pytest.approx(math.log(sizes[a] / L), rel=1e-12)
+    assert triax.meanStress == pytest.approx(np.mean(goals), rel=5e-3)
+    assert triax.volumetricStrain == pytest.approx(sum(triax.strain), rel=1e-12)
+    assert triax.boxVolume == pytest.approx(np.prod(sizes), rel=1e-12)
+    solid = N ** 3 * 4 / 3 * math.pi * R ** 3
+    assert triax.porosity == pytest.approx(1 - solid / np.prod(sizes), rel=1e-12)
+    assert triax.spheresVolume == pytest.approx(solid, rel=1e-12)
+
+
+def test_strain_rate_axis_with_stress_held_on_the_others(yade):
+    """stressMask 5: y at a strain rate reached through strainDamping (closed form of the sizes), x and z at
+    their stress while y is compressed."""
+    _lattice(yade)
+    triax = yade.TriaxialStressController(internalCompaction=False, stressMask=7, goal1=-1e4, goal2=-1e4,
+                                          goal3=-1e4, thickness=0, computeStressStrainInterval=1)
+    _engines(yade, triax)
+    yade.O.run(3000, True)
+    triax.stressMask = 5
+    triax.goal2 = -0.5
+    yade.O.dynDt = False
+    h = triax.height
+    dt = yade.O.dt
+    yade.O.run(300, True)
+    rate, size = 0.0, h
+    for _ in range(300):
+        seen = size  # the controller measures the sizes before it moves the walls
+        rate = 0.99 * rate + 0.01 * -0.5
+        size *= 1 + rate * dt
+    assert triax.height == pytest.approx(seen, rel=1e-9)
+    assert yade.O.bodies[3].state.pos[1] - yade.O.bodies[2].state.pos[1] == pytest.approx(size, rel=1e-9)
+    assert triax.strainRate()[1] == pytest.approx(rate, rel=1e-9)
+    for w in (0, 1, 4, 5):
+        assert triax.stress(w)[w // 2] == pytest.approx(-1e4, rel=0.01), f"wall {w}"
+
+
+def test_internal_compaction_reaches_the_mean_stress(yade):
+    """Spheres 10 % too small grow (walls fixed) until the mean stress is the goal (0.5 %); the radius growth
+    switches to finalMaxMultiplier once the goal was passed; masses follow the radii."""
+    _lattice(yade, radius=0.9 * R)
+    m0 = yade.O.bodies[6].state.mass
+    triax = yade.TriaxialStressController(internalCompaction=True, goal1=-1e4, goal2=-1e4, goal3=-1e4,
+                                          maxMultiplier=1.002, finalMaxMultiplier=1.0002, thickness=0)
+    _engines(yade, triax)
+    yade.O.run(6000, True)
+    assert triax.meanStress == pytest.approx(-1e4, rel=5e-3)
+    assert triax.maxMultiplier == 1.0002
+    r = yade.O.bodies[6].shape.radius
+    assert yade.O.bodies[6].state.mass == pytest.approx(m0 * (r / (0.9 * R)) ** 3, rel=1e-12)
+    assert (triax.width, triax.height, triax.depth) == (L, L, L)
+    radii = [b.shape.radius for b in yade.O.bodies if b.id >= 6]
+    assert triax.porosity == pytest.approx(1 - sum(4 / 3 * math.pi * x ** 3 for x in radii) / L ** 3, rel=1e-9)
+    # the overlap that carries the mean stress: 2 r n - L per chain of n + 1 contacts
+    assert 2 * r * N - L == pytest.approx(_shortening(-1e4), rel=0.05)
+
+
+@pytest.mark.parametrize("mask", [-1, 8, 12])
+def test_stress_mask_out_of_range(yade, mask):
+    with pytest.raises(ValueError, match=f"stressMask must be in 0..7.*got {mask}"):
+        yade.TriaxialStressController(stressMask=mask)
+
+
+def _state(y):
+    return y.O.iter, [tuple(b.state.pos) for b in y.O.bodies], [b.shape.radius for b in y.O.bodies if b.id >= 6]
+
+
+def test_missing_walls_refused_scene_intact(yade):
+    yade.O.materials.append(yade.FrictMat(young=E, density=2600, label="spheres"))
+    yade.O.bodies.append([yade.sphere((0.2 * i, 0, 0), 0.05, material="spheres") for i in range(8)])
+    triax = yade.TriaxialStressController(goal1=-1e4, goal2=-1e4, goal3=-1e4)
+    _engines(yade, triax)
+    before = _state(yade)
+    with pytest.raises(RuntimeError, match="wall_left_id=0 is not a Box \\(body 0 is a Sphere\\)"):
+        yade.O.run(10, True)
+    assert _state(yade) == before
+
+
+def test_tensile_goal_with_internal_compaction_refused(yade):
+    _lattice(yade)
+    triax = yade.TriaxialStressController(goal1=1e4, goal2=1e4, goal3=1e4, internalCompaction=True)
+    _engines(yade, triax)
+    before = _state(yade)
+    with pytest.raises(ValueError, match="mean of goal1..3 must be negative.*got 10000.0$"):
+        yade.O.run(10, True)
+    assert _state(yade) == before
+
+
+def test_bad_attributes(yade):
+    T = yade.TriaxialStressController
+    with pytest.raises(ValueError, match="stressDamping must be in \\[0, 1\\], got 1.5"):
+        T(stressDamping=1.5)
+    with pytest.raises(ValueError, match="radiusControlInterval must be at least 1"):
+        T(radiusControlInterval=0)
+    with pytest.raises(ValueError, match="max_vel must be positive"):
+        T(max_vel=-1)
+    with pytest.raises(IndexError, match="wall index must be in 0..5.*got 6"):
+        T().stress(6)
