@@ -11,6 +11,7 @@ import math
 
 import numpy as np
 import pytest
+from conftest import REFERENCE
 
 N, R, E = 3, 0.05, 1e7
 L = 2 * R * N
@@ -148,3 +149,40 @@ def test_bad_attributes(yade):
         T(max_vel=-1)
     with pytest.raises(IndexError, match="wall index must be in 0..5.*got 6"):
         T().stress(6)
+
+
+def test_set_contact_friction_leaves_the_walls(yade):
+    """utils.setContactFriction changes the materials of dynamic bodies and the contacts, tan(min(phi1, phi2)):
+    the walls' material (fixed bodies only) and their frictionless contacts stay as they are (YADE 2023.02a;
+    the REFD stage of the triaxial tutorial relies on it)."""
+    _lattice(yade)
+    _engines(yade, yade.TriaxialStressController(internalCompaction=False, goal1=-1e4, goal2=-1e4, goal3=-1e4))
+    yade.O.run(20, True)
+    yade.setContactFriction(0.2)
+    assert [m.frictionAngle for m in yade.O.materials] == [0.2, 0.0]
+    tans = {(i.id1 < 6 or i.id2 < 6): i.phys.tangensOfFrictionAngle for i in yade.O.interactions}
+    assert tans == {True: 0.0, False: pytest.approx(math.tan(0.2))}
+
+
+def test_triaxial_state_recorder(yade, tmp_path):
+    """One line every iterPeriod steps (and at the first step), YADE's header and columns: the stresses on the
+    right, top and front walls, the strains, the unbalanced force, the porosity, the kinetic energy."""
+    header = (REFERENCE / "triax_tutorial" / "WallStresses_triax_base_").read_text().splitlines()[0]
+    _lattice(yade)
+    triax = yade.TriaxialStressController(internalCompaction=False, goal1=-1e4, goal2=-2e4, goal3=-3e4)
+    path = tmp_path / "WallStresses"
+    _engines(yade, triax)
+    yade.O.engines = yade.O.engines[:5] + [yade.TriaxialStateRecorder(iterPeriod=10, file=str(path))] + \
+        yade.O.engines[5:]
+    yade.O.run(31, True)
+    lines = path.read_text().splitlines()
+    assert lines[0] == header
+    rows = [line.split() for line in lines[1:]]
+    assert [int(r[0]) for r in rows] == [0, 10, 20, 30]
+    last = [float(x) for x in rows[-1][1:]]
+    expect = [triax.stress(1)[0], triax.stress(3)[1], triax.stress(5)[2], *triax.strain, yade.unbalancedForce(),
+              triax.porosity, yade.kineticEnergy()]
+    # the record was taken in step 31, before NewtonIntegrator: the stresses and strains of that step
+    assert last[:6] == pytest.approx(expect[:6], rel=1e-15)
+    assert last[7] == pytest.approx(expect[7], rel=1e-3)
+    assert yade.O.engines[5].porosity == last[7]

@@ -12,9 +12,10 @@ The walls are boxes (``utils.aabbWalls``) in the order left, right (x), bottom, 
   ε_a = ln(size_a / size0_a) (size0: the sizes at the first step) and ``volumetricStrain`` = Σ ε_a;
 * every ``stiffnessUpdateInterval`` steps: each wall's stiffness k_w = Σ kn over its contacts;
 * ``internalCompaction``: the walls stay still; every ``radiusControlInterval`` steps the spheres'
-  radii are multiplied by m = 1 + (M - 1)(σ_g - σ_mean)/σ_g (masses by m³, inertias by m⁵), σ_g the
-  mean of the three goals and M ``maxMultiplier``; once |σ_mean| exceeds |σ_g|, M becomes
-  ``finalMaxMultiplier`` for good (YADE 2023.02a's rule, measured);
+  radii are multiplied by m = 1 + (M - 1)(σ_g - σ_mean)/σ_g (masses by m³, inertias by m⁵; the
+  collider's budgets shrink by the growth, :func:`spend_budgets`), σ_g the mean of the three goals
+  and M ``maxMultiplier``; once |σ_mean| exceeds |σ_g|, M becomes ``finalMaxMultiplier`` for good
+  (YADE 2023.02a's rule, measured);
 * otherwise each active wall moves along n_w by T_w per step (set as its velocity T_w n_w / dt,
   which NewtonIntegrator integrates). Stress axis (bit a of ``stressMask``):
   T_w = (1 - stressDamping)·clamp(ΔF / k_w, ±max_vel·dt) + 0.8·T_w(previous step), with
@@ -32,10 +33,10 @@ from typing import NamedTuple
 import numpy as np
 
 from granum._jit import jit
-from granum.core.arrays import S_DT, SI_ITER, SI_NBODIES
+from granum.core.arrays import S_DT, S_VERLET, SI_ITER, SI_NBODIES
 from granum.core.bodies import DOF_ALL, ShapeKind
-from granum.core.contacts import C_COLLIDE, C_CSR_DIRTY, F_KN
-from granum.kernels.interaction import build_csr
+from granum.core.contacts import C_CSR_DIRTY, C_PAIRS, F_KN
+from granum.kernels.interaction import budget_f32, build_csr
 
 # slots of the controller's state array ``out`` (all floats)
 T_STRESS = 0          # 0..5 stress on each wall, s_w [Pa]
@@ -132,13 +133,31 @@ def wall_stiffness(C, wall):
 
 @jit
 def grow_spheres(S, m):
-    """Multiply the radii of the free spheres by ``m``, their masses by m³ and inertias by m⁵."""
+    """Multiply the radii of the free spheres by ``m``, their masses by m³ and inertias by m⁵; the largest
+    radius increase [m] (0 when they shrink)."""
+    grown = 0.0
     for i in range(S.iscal[SI_NBODIES]):
         if S.alive[i] and S.shape_kind[i] == _SPHERE and S.blocked[i] != DOF_ALL and S.clump_id[i] < 0:
-            S.sphere_radius[S.shape_row[i]] *= m
+            r = S.sphere_radius[S.shape_row[i]]
+            grown = max(grown, r * (m - 1.0))
+            S.sphere_radius[S.shape_row[i]] = r * m
             S.mass[i] *= m ** 3
             for k in range(3):
                 S.inertia[i, k] *= m ** 5
+    return grown
+
+
+@jit
+def spend_budgets(S, C, grown):
+    """Radii grew by up to ``grown`` [m]: a gap between two bodies shrinks by up to twice that without any
+    motion. Take it from the Verlet distance of the bounds (the collider runs once a body has moved farther
+    than what is left) and from every pair's detection budget (``pair_gap``), as if the bodies had moved."""
+    S.scal[S_VERLET] -= grown
+    gap = C.pair_gap
+    for p in range(C.ctr[C_PAIRS]):
+        g = gap[p]
+        if g > -math.inf and g < math.inf:
+            gap[p] = budget_f32(g - 2.0 * grown)
 
 
 @jit
@@ -182,10 +201,9 @@ def triaxial_stage(S, C, P):
             m = 1.0 + (out[T_MAX_MULT] - 1.0) * (sigma - out[T_MEAN]) / sigma
             out[T_PREV_MULT] = m
             out[T_PREV_STRESS] = out[T_MEAN]
-            grow_spheres(S, m)
+            spend_budgets(S, C, grow_spheres(S, m))
             out[T_SPHERES_VOLUME] = spheres_volume(S)
             box_sizes(S, walls, P.thickness, out)
-            C.ctr[C_COLLIDE] = 1  # bounds and pair budgets are stale once radii changed
     else:
         for a in range(3):
             if not P.stress_mask >> a & 1:

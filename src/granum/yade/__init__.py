@@ -80,6 +80,7 @@ from granum.yade.interactions import PHYS_VIEWS as _PHYSS
 from granum.yade.interactions import Interaction
 from granum.yade.materials import CLASSES as _MATERIALS
 from granum.yade.omega import O, Omega
+from granum.yade.recorders import Recorder, TriaxialStateRecorder
 from granum.yade.snapshot import SnapshotEngine
 from granum.yade.utils import *  # noqa: F403
 from granum.yade.utils import __all__ as _utils_all
@@ -116,7 +117,8 @@ _namespace.update(
     PyRunner=PyRunner, PeriTriaxController=PeriTriaxController, Dispatcher=Dispatcher,
     BoundDispatcher=BoundDispatcher, IGeomDispatcher=IGeomDispatcher, IPhysDispatcher=IPhysDispatcher,
     LawDispatcher=LawDispatcher, TimeStepper=TimeStepper, GlobalStiffnessTimeStepper=GlobalStiffnessTimeStepper,
-    TriaxialStressController=TriaxialStressController,
+    TriaxialStressController=TriaxialStressController, Recorder=Recorder,
+    TriaxialStateRecorder=TriaxialStateRecorder,
     ForceEngine=ForceEngine, TranslationEngine=TranslationEngine, RotationEngine=RotationEngine,
     KinematicEngine=KinematicEngine, HelixEngine=HelixEngine, CombinedKinematicEngine=CombinedKinematicEngine,
     ParallelEngine=ParallelEngine,
