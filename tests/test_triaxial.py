@@ -8,6 +8,9 @@ kn = E r in series, so a stress s on the faces shortens each size L = 2 r n by 4
 from __future__ import annotations
 
 import math
+import pathlib
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -167,7 +170,7 @@ def test_set_contact_friction_leaves_the_walls(yade):
 def test_triaxial_state_recorder(yade, tmp_path):
     """One line every iterPeriod steps (and at the first step), YADE's header and columns: the stresses on the
     right, top and front walls, the strains, the unbalanced force, the porosity, the kinetic energy."""
-    header = (REFERENCE / "triax_tutorial" / "WallStresses_triax_base_").read_text().splitlines()[0]
+    header = (REFERENCE / "triax_tutorial" / "seed1" / "WallStresses_triax_base_").read_text().splitlines()[0]
     _lattice(yade)
     triax = yade.TriaxialStressController(internalCompaction=False, goal1=-1e4, goal2=-2e4, goal3=-3e4)
     path = tmp_path / "WallStresses"
@@ -186,3 +189,46 @@ def test_triaxial_state_recorder(yade, tmp_path):
     assert last[:6] == pytest.approx(expect[:6], rel=1e-15)
     assert last[7] == pytest.approx(expect[7], rel=1e-3)
     assert yade.O.engines[5].porosity == last[7]
+
+
+def _results(path):
+    """Columns of a plot.saveDataTxt file: {name: array}."""
+    lines = path.read_text().splitlines()
+    names = lines[0].lstrip("# ").split()
+    data = np.array([[float(x) for x in line.split()] for line in lines[1:]])
+    return {n: data[:, k] for k, n in enumerate(names)}
+
+
+def _deviator(res):
+    """(axial strain e22 [-], deviator s22 - s11 [Pa], compression positive) of a results file."""
+    return res["e22"], res["s22"] - res["s11"]
+
+
+@pytest.mark.slow
+def test_triax_tutorial_as_yade(tmp_path):
+    """YADE's triax tutorial with its stages enabled (examples/triax-tutorial/script-session1-stages.py: 1000
+    spheres, 8000 steps of confinement, 20 rounds of friction reduction, 8000 steps of compression at -0.02/s)
+    under granum, against the same script under YADE 2023.02a (tests/reference/yade/triax_tutorial/seed1).
+
+    Two runs of chaotic packing dynamics only agree statistically: YADE's own peak deviator over makeCloud
+    seeds 1..3 spans 10.9-12.7 kPa and its porosity after compaction 0.428-0.434. granum's run with seed 1 is
+    checked to lie within 5 % of YADE's range for the peak, within that porosity range (0.005 of slack), and
+    its deviator-strain curve (mean per 0.01 of strain) within the band of YADE's three curves widened by 10 % of
+    the peak. (Measured 2026-12-03: peak 11.16 kPa, 12 % below YADE's seed-1 run; porosity 0.4336.)"""
+    script = pathlib.Path(__file__).parents[1] / "examples" / "triax-tutorial" / "script-session1-stages.py"
+    r = subprocess.run([sys.executable, "-m", "granum", "-j2", str(script)], cwd=tmp_path, capture_output=True,
+                       text=True, timeout=3600)
+    assert r.returncode == 0, r.stdout + r.stderr
+    ours = _results(tmp_path / "results_triax_base_")
+    refs = [_results(REFERENCE / "triax_tutorial" / f"seed{k}" / "results_triax_base_") for k in (1, 2, 3)]
+    peaks = [_deviator(x)[1].max() for x in refs]
+    q = _deviator(ours)[1]
+    assert 0.95 * min(peaks) <= q.max() <= 1.05 * max(peaks)
+    compacted = [x["porosity"][0] for x in refs]
+    assert min(compacted) - 0.005 <= ours["porosity"][0] <= max(compacted) + 0.005
+    edges = np.linspace(0, 0.1, 11)  # mean deviator per 0.01 of axial strain: the curves are noisy step to step
+    binned = [[q_[(e >= a) & (e < b)].mean() for a, b in zip(edges[:-1], edges[1:], strict=True)]
+              for e, q_ in map(_deviator, refs + [ours])]
+    low, high, mine = np.min(binned[:3], axis=0), np.max(binned[:3], axis=0), np.array(binned[3])
+    slack = 0.1 * max(peaks)
+    assert np.all((low - slack <= mine) & (mine <= high + slack)), (low, mine, high)

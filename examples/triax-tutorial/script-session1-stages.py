@@ -20,6 +20,9 @@
 ## AND if you can read some french, it is here: http://tel.archives-ouvertes.fr/docs/00/48/68/07/PDF/Thesis.pdf
 
 from yade import pack
+import os
+
+SEED = int(os.environ.get('TRIAX_SEED', '1'))  # makeCloud's seed (the tutorial's: 1)
 
 ############################################
 ###   DEFINING VARIABLES AND MATERIALS   ###
@@ -68,7 +71,7 @@ if clumps:
 	sp.toSimulation(material='spheres')
 	O.bodies.updateClumpProperties()  #get more accurate clump masses/volumes/inertia
 else:
-	sp.makeCloud(mn, mx, -1, 0.3333, num_spheres, False, 0.95, seed=1)  #"seed" make the "random" generation always the same
+	sp.makeCloud(mn, mx, -1, 0.3333, num_spheres, False, 0.95, seed=SEED)  #"seed" make the "random" generation always the same
 	O.bodies.append([sphere(center, rad, material='spheres') for center, rad in sp])
 	#or alternatively (higher level function doing exactly the same):
 	#sp.toSimulation(material='spheres')
