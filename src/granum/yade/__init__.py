@@ -50,6 +50,8 @@ from granum.engines.pipeline import (
 )
 from granum.engines.pyrunner import PyRunner
 from granum.engines.runner import SimulationError
+from granum.engines.timestepper import GlobalStiffnessTimeStepper, TimeStepper
+from granum.engines.triaxial import TriaxialStressController
 from granum.idem import IDEMSolver
 from granum.mathtypes import Matrix3, Quaternion, Vector2, Vector2i, Vector3, Vector3i, Vector6
 from granum.yade import (  # noqa: F401 - the yade.X modules (_laws: the law classes' accumulators and counts)
@@ -79,6 +81,7 @@ from granum.yade.interactions import PHYS_VIEWS as _PHYSS
 from granum.yade.interactions import Interaction
 from granum.yade.materials import CLASSES as _MATERIALS
 from granum.yade.omega import O, Omega
+from granum.yade.recorders import Recorder, TriaxialStateRecorder
 from granum.yade.snapshot import SnapshotEngine
 from granum.yade.utils import *  # noqa: F403
 from granum.yade.utils import __all__ as _utils_all
@@ -115,7 +118,9 @@ _namespace.update(
     InsertionSortCollider=InsertionSortCollider, InteractionLoop=InteractionLoop, NewtonIntegrator=NewtonIntegrator,
     PyRunner=PyRunner, PeriTriaxController=PeriTriaxController, Dispatcher=Dispatcher,
     BoundDispatcher=BoundDispatcher, IGeomDispatcher=IGeomDispatcher, IPhysDispatcher=IPhysDispatcher,
-    LawDispatcher=LawDispatcher,
+    LawDispatcher=LawDispatcher, TimeStepper=TimeStepper, GlobalStiffnessTimeStepper=GlobalStiffnessTimeStepper,
+    TriaxialStressController=TriaxialStressController, Recorder=Recorder,
+    TriaxialStateRecorder=TriaxialStateRecorder,
     ForceEngine=ForceEngine, TranslationEngine=TranslationEngine, RotationEngine=RotationEngine,
     KinematicEngine=KinematicEngine, HelixEngine=HelixEngine, CombinedKinematicEngine=CombinedKinematicEngine,
     ParallelEngine=ParallelEngine,

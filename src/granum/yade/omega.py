@@ -25,6 +25,7 @@ from granum.engines import interrupts
 from granum.engines.base import Engine
 from granum.engines.functors import Functor
 from granum.engines.runner import Runner
+from granum.engines.timestepper import TimeStepper
 from granum.io import checkpoint
 from granum.mathtypes import Vector3, as_vec3
 from granum.yade.bodies import BodyContainer
@@ -333,22 +334,28 @@ class Omega:
         self._scene.time = 0.0
         self._started = time.monotonic()
 
+    def _time_steppers(self) -> list:
+        return [e for e in self._scene.engines if isinstance(e, TimeStepper)]
+
     @property
     def dynDtAvailable(self) -> bool:
-        """Whether O.engines has a TimeStepper that :attr:`dynDt` could switch on (granum has none yet)."""
-        return False
+        """Whether O.engines has a TimeStepper that :attr:`dynDt` could switch on."""
+        return bool(self._time_steppers())
 
     @property
     def dynDt(self) -> bool:
-        """Whether a TimeStepper engine sets O.dt (never in granum yet: GlobalStiffnessTimeStepper is not
-        implemented)."""
-        return False
+        """Whether a TimeStepper in O.engines is active (it sets O.dt); assigning switches them all (YADE).
+        Assigning O.dt leaves an active stepper active, as in YADE: its next update replaces the value."""
+        return any(e.active for e in self._time_steppers())
 
     @dynDt.setter
     def dynDt(self, on: bool) -> None:
-        if on:
-            raise RuntimeError("O.dynDt: no TimeStepper found in O.engines (granum does not implement "
-                               "GlobalStiffnessTimeStepper yet)")
+        steppers = self._time_steppers()
+        if not steppers:
+            raise RuntimeError("No TimeStepper found in O.engines (O.dynDt switches one, e.g. "
+                               "GlobalStiffnessTimeStepper)")
+        for e in steppers:
+            e.active = bool(on)
 
     #: the name of :attr:`dynDt` in YADE before 2018
     usesTimeStepper = dynDt

@@ -426,12 +426,23 @@ def scalarOnColorScale(x, xmin=0.0, xmax=1.0):
 
 
 def setContactFriction(angleRad):
-    """Set the friction angle of all materials and of the existing contacts [rad]."""
-    for m in O.materials:
-        if hasattr(m, "frictionAngle"):
+    """Set the friction angle [rad] of the materials of the dynamic bodies, and of the existing contacts
+    tan(min(phi1, phi2)) from their bodies' materials (YADE 2023.02a: the materials only fixed bodies use,
+    such as walls, keep theirs, and so do their contacts with a lower friction)."""
+    s = _scene()
+    b = s.bodies
+    n = b.count
+    used = set(np.unique(b.material[:n][b.alive[:n] & (b.blocked[:n] != DOF_ALL)]).tolist())
+    for k, m in enumerate(s.materials):
+        if k in used and hasattr(m, "frictionAngle"):
             m.frictionAngle = angleRad
     C, rows = _live_contacts()
-    C.con_f[rows, F_TANPHI] = math.tan(angleRad)
+    phi = np.array([getattr(m, "frictionAngle", math.inf) for m in s.materials] or [math.inf])
+    phi1 = phi[b.material[C.con_i[rows, I_ID1]]]
+    phi2 = phi[b.material[C.con_i[rows, I_ID2]]]
+    low = np.minimum(phi1, phi2)
+    rows, low = rows[np.isfinite(low)], low[np.isfinite(low)]  # contacts of materials without friction: kept
+    C.con_f[rows, F_TANPHI] = np.tan(low)
 
 
 def createInteraction(id1, id2):
