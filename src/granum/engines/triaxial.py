@@ -8,7 +8,7 @@ import math
 import numpy as np
 
 from granum.core.attrs import Attr, as_integer, to_bool, to_float
-from granum.core.bodies import ShapeKind
+from granum.core.shapes import ShapeKind
 from granum.engines.base import GlobalEngine
 from granum.kernels import triaxial as k
 from granum.mathtypes import Vector3

@@ -34,9 +34,10 @@ import numpy as np
 
 from granum._jit import BLOCK, PARALLEL_THRESHOLD, jit, kernel, prange
 from granum.core.arrays import S_DT, SI_ITER, SI_NBODIES
-from granum.core.bodies import DOF_ALL, ShapeKind
+from granum.core.bodies import DOF_ALL
 from granum.core.contacts import C_CSR_DIRTY, F_KN, F_KS, F_NORMAL, F_R1, F_R2, I_ID2, I_PHYS
 from granum.core.records import raw
+from granum.core.shapes import ShapeKind
 from granum.kernels.interaction import build_csr
 from granum.kernels.schedule import block_queue, next_block, queue_workers
 from granum.physics.materials import M_DENSITY, M_YOUNG

@@ -34,8 +34,9 @@ import numpy as np
 
 from granum._jit import jit
 from granum.core.arrays import S_DT, S_VERLET, SI_ITER, SI_NBODIES
-from granum.core.bodies import DOF_ALL, ShapeKind
+from granum.core.bodies import DOF_ALL
 from granum.core.contacts import C_CSR_DIRTY, C_PAIRS, F_KN
+from granum.core.shapes import ShapeKind
 from granum.kernels.interaction import budget_f32, build_csr
 
 # slots of the controller's state array ``out`` (all floats)
