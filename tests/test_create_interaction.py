@@ -70,3 +70,26 @@ def test_a_body_has_no_bound_until_the_collider_runs(yade):
     y.O.engines = [y.InsertionSortCollider([y.Bo1_Sphere_Aabb()]), y.NewtonIntegrator()]
     y.O.step()
     assert list(y.O.bodies[i].bound.min) == [-1.5, -1.5, -1.5]   # radius + verletDist (0.5 of the radius)
+
+
+def test_iter_born_is_the_step_an_interaction_became_real(yade):
+    """YADE's utilsModule test: an interaction made by createInteraction after one step was born and made real
+    at step 1; granum records no step for a potential interaction and says so."""
+    y = yade
+    _two_spheres(y, -0.01)
+    y.O.bodies.append(y.sphere((5, 0, 0), 1))
+    y.O.engines = [y.ForceResetter(), y.InsertionSortCollider([y.Bo1_Sphere_Aabb()]),
+                   y.InteractionLoop([y.Ig2_Sphere_Sphere_ScGeom()], [y.Ip2_FrictMat_FrictMat_FrictPhys()],
+                                     [y.Law2_ScGeom_FrictPhys_CundallStrack()]),
+                   y.NewtonIntegrator()]
+    y.O.step()
+    assert y.O.interactions[0, 1].iterBorn == y.O.interactions[0, 1].iterMadeReal == 0
+    i = y.utils.createInteraction(1, 2)
+    assert i.iterBorn == i.iterMadeReal == 1
+    y.O.interactions.erase(1, 2)
+    y.O.bodies[2].state.pos = (4.05, 0, 0)         # 0.06 apart: the bounds (with the Verlet distance) overlap
+    y.O.step()
+    potential = y.O.interactions[1, 2]
+    assert not potential.isReal
+    with pytest.raises(NotImplementedError, match="iterBorn: granum records the step of real interactions only"):
+        _ = potential.iterBorn

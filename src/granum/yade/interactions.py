@@ -216,6 +216,16 @@ class Interaction:
         row = self._row()
         return int(self._scene.contacts.con_i[row, I_BORN]) if row >= 0 else -1
 
+    @property
+    def iterBorn(self) -> int:
+        """Step at which the interaction was created. granum keeps a step for real interactions only, the one
+        at which they became real (``iterMadeReal``); YADE's collider may have created the pair earlier, when
+        the bounds began to overlap. A potential interaction raises."""
+        if self._row() < 0:
+            raise NotImplementedError(f"Interaction({self.id1}, {self.id2}).iterBorn: granum records the step of "
+                                      f"real interactions only, and this one is potential")
+        return self.iterMadeReal
+
     def __repr__(self):
         return f"<Interaction instance at {hex(id(self))}, between bodies #{self.id1} and #{self.id2}>"
 
