@@ -5,17 +5,21 @@
 # geom.facetBox whose walls overlap the outer spheres by the same amount (r*1e-3).
 # FrictMat(young=1e8, poisson=0.3, frictionAngle=30 deg, density=2600), Cundall-Strack
 # chain (BENCH_LAW=mindlin: Hertz-Mindlin, Ip2_FrictMat_FrictMat_MindlinPhys and
-# Law2_ScGeom_MindlinPhys_Mindlin with their defaults), NewtonIntegrator(damping=0.2, gravity -z),
-# O.dt = 0.5*PWaveTimeStep().
+# Law2_ScGeom_MindlinPhys_Mindlin with their defaults; BENCH_LAW=cohesive: cohesive contacts with
+# moments, CohFrictMat with the same moduli and normalCohesion=shearCohesion=1e6,
+# momentRotationLaw=True, etaRoll=etaTwist=0.1, Ig2_*_ScGeom6D,
+# Ip2_CohFrictMat_CohFrictMat_CohFrictPhys(setCohesionNow=True: every contact of the first step is
+# cohesive), Law2_ScGeom6D_CohFrictPhys_CohesionMoment(useIncrementalForm=True)),
+# NewtonIntegrator(damping=0.2, gravity -z), O.dt = 0.5*PWaveTimeStep().
 # At n = 20: 8,000 spheres and about 25,000 contacts (3 n^2 (n-1) sphere-sphere + walls).
 #
 # Runs unmodified with `granum -jN dense_lattice.py` and `yade -n -x -jN dense_lattice.py`.
 # Environment: BENCH_N (default 20) lattice size, BENCH_STEPS (default 500) timed steps,
 # BENCH_WARMUP (default 1) untimed steps before them, BENCH_DUMP=path: after the run,
-# write the sphere positions to path (one line "x y z" per sphere, %.17g) to check
-# bitwise determinism across thread counts and runs. BENCH_NAME overrides the name
-# printed (benchmarks/run uses scaling_N and dense_lattice_mindlin). BENCH_LAW: the contact law
-# (mindlin; user: Cundall-Strack as a user's law, granum only).
+# write the sphere positions and angular velocities to path (one line "x y z wx wy wz" per
+# sphere, %.17g) to check bitwise determinism across thread counts and runs. BENCH_NAME overrides
+# the name printed (benchmarks/run uses scaling_N, dense_lattice_mindlin, cohesive_lattice).
+# BENCH_LAW: the contact law (mindlin, cohesive; user: Cundall-Strack as a user's law, granum only).
 # Prints one line:  BENCH name=dense_lattice ...
 
 import os
@@ -34,7 +38,13 @@ dump = os.environ.get('BENCH_DUMP', '')
 r = 0.01
 overlap = 1e-3
 s = 2 * r * (1 - overlap)  # lattice spacing
-mat = O.materials.append(FrictMat(young=1e8, poisson=0.3, frictionAngle=radians(30), density=2600))
+LAW = os.environ.get('BENCH_LAW', '')
+if LAW == 'cohesive':
+    mat = O.materials.append(CohFrictMat(young=1e8, poisson=0.3, frictionAngle=radians(30), density=2600,
+                                         normalCohesion=1e6, shearCohesion=1e6, momentRotationLaw=True,
+                                         etaRoll=0.1, etaTwist=0.1))
+else:
+    mat = O.materials.append(FrictMat(young=1e8, poisson=0.3, frictionAngle=radians(30), density=2600))
 
 # centres x = r + i*s (i = 0..n-1) on each axis, x fastest, z slowest
 sphereIds = O.bodies.append(
@@ -45,18 +55,23 @@ half = 0.5 * (n - 1) * s + r * (1 - overlap)
 c = r + 0.5 * (n - 1) * s
 O.bodies.append(geom.facetBox((c, c, c), (half, half, half), material=mat))
 
+geoms = [Ig2_Sphere_Sphere_ScGeom(), Ig2_Facet_Sphere_ScGeom()]
 ip2, law = Ip2_FrictMat_FrictMat_FrictPhys(), Law2_ScGeom_FrictPhys_CundallStrack()
-if os.environ.get('BENCH_LAW', '') == 'user':  # granum only: the same law written as a user's law
+if LAW == 'user':  # granum only: the same law written as a user's law
     from user_cundall_strack import Law2_ScGeom_FrictPhys_UserCundallStrack
     law = Law2_ScGeom_FrictPhys_UserCundallStrack()
-elif os.environ.get('BENCH_LAW', '') == 'mindlin':  # Hertz-Mindlin (granum and YADE)
+elif LAW == 'mindlin':  # Hertz-Mindlin (granum and YADE)
     ip2, law = Ip2_FrictMat_FrictMat_MindlinPhys(), Law2_ScGeom_MindlinPhys_Mindlin()
+elif LAW == 'cohesive':  # cohesion with bending and twisting moments (granum and YADE)
+    geoms = [Ig2_Sphere_Sphere_ScGeom6D(), Ig2_Facet_Sphere_ScGeom6D()]
+    ip2 = Ip2_CohFrictMat_CohFrictMat_CohFrictPhys(setCohesionNow=True)
+    law = Law2_ScGeom6D_CohFrictPhys_CohesionMoment(useIncrementalForm=True)
 
 O.engines = [
     ForceResetter(),
     InsertionSortCollider([Bo1_Sphere_Aabb(), Bo1_Facet_Aabb()]),
     InteractionLoop(
-        [Ig2_Sphere_Sphere_ScGeom(), Ig2_Facet_Sphere_ScGeom()],
+        geoms,
         [ip2],
         [law],
     ),
@@ -70,5 +85,5 @@ measure(O, os.environ.get('BENCH_NAME', 'dense_lattice'), len(sphereIds), env_in
 if dump:
     with open(dump, 'w') as f:
         for i in sphereIds:
-            p = O.bodies[i].state.pos
-            f.write(f'{p[0]:.17g} {p[1]:.17g} {p[2]:.17g}\n')
+            p, w = O.bodies[i].state.pos, O.bodies[i].state.angVel
+            f.write(f'{p[0]:.17g} {p[1]:.17g} {p[2]:.17g} {w[0]:.17g} {w[1]:.17g} {w[2]:.17g}\n')

@@ -323,12 +323,13 @@ def test_save_load_continue_equals_the_uninterrupted_run(yade, tmp_path):
 def test_threads_give_the_same_bits(tmp_path):
     """The cohesive lattice benchmark above the parallel threshold: -j1 and -j2 give the same positions and
     angular velocities, bit for bit (moments gathered per body in a fixed order)."""
-    script = Path(__file__).parents[1] / "benchmarks" / "cohesive_lattice.py"
+    script = Path(__file__).parents[1] / "benchmarks" / "dense_lattice.py"
     states = {}
     for j in ("1", "2"):
         out = tmp_path / f"j{j}.txt"
         subprocess.run([sys.executable, "-m", "granum", "-j", j, str(script)], check=True, timeout=1800,
-                       env={**os.environ, "BENCH_N": "12", "BENCH_STEPS": "200", "BENCH_DUMP": str(out)},
+                       env={**os.environ, "BENCH_N": "12", "BENCH_STEPS": "200", "BENCH_LAW": "cohesive",
+                            "BENCH_DUMP": str(out)},
                        capture_output=True)
         states[j] = out.read_text()
     assert states["1"] == states["2"]
