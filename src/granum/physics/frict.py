@@ -152,9 +152,11 @@ def law_cundall_strack(c, id1, id2, S, C, prm):
 registry.register_functor(Functor(
     "Ip2_FrictMat_FrictMat_FrictPhys", "phys", ("FrictMat", "FrictMat"), "FrictPhys",
     f"{__name__}:phys_frict",
-    (Param("kn", None, "Per-material-pair normal stiffness (MatchMaker; accepted)"),
-     Param("ks", None, "Per-material-pair shear stiffness (MatchMaker; accepted)"),
-     Param("frictAngle", None, "Per-material-pair friction angle (MatchMaker); None: min of the two")),
+    (Param("kn", None, "Per-material-pair normal stiffness (MatchMaker; not implemented: only None)", supported=False),
+     Param("ks", None, "Per-material-pair shear stiffness (MatchMaker; not implemented: only None)", supported=False),
+     Param("frictAngle", None,
+           "Per-material-pair friction angle (MatchMaker; not implemented: only None, the min of the two)",
+           supported=False)),
     phys_frict.py_func.__doc__))
 LAW_CS = Functor(
     "Law2_ScGeom_FrictPhys_CundallStrack", "law", ("ScGeom", "FrictPhys"), None,

@@ -204,10 +204,14 @@ def law_viscel(c, id1, id2, S, C, prm):
 registry.register_functor(Functor(
     "Ip2_ViscElMat_ViscElMat_ViscElPhys", "phys", ("ViscElMat", "ViscElMat"), "ViscElPhys",
     f"{__name__}:phys_viscel",
-    (Param("tc", None, "Per-material-pair contact time (MatchMaker); None: from the materials"),
-     Param("en", None, "Per-material-pair normal restitution (MatchMaker)"),
-     Param("et", None, "Per-material-pair tangential restitution (MatchMaker)"),
-     Param("frictAngle", None, "Per-material-pair friction angle (MatchMaker)")),
+    (Param("tc", None, "Per-material-pair contact time (MatchMaker; not implemented: only None, from the materials)",
+           supported=False),
+     Param("en", None, "Per-material-pair normal restitution (MatchMaker; not implemented: only None)",
+           supported=False),
+     Param("et", None, "Per-material-pair tangential restitution (MatchMaker; not implemented: only None)",
+           supported=False),
+     Param("frictAngle", None, "Per-material-pair friction angle (MatchMaker; not implemented: only None)",
+           supported=False)),
     phys_viscel.py_func.__doc__, HISTORY))
 registry.register_functor(Functor(
     "Law2_ScGeom_ViscElPhys_Basic", "law", ("ScGeom", "ViscElPhys"), None,
