@@ -159,9 +159,17 @@ def as_integer(value, what: str) -> int:
     return int(value)
 
 
-def to_int(name: str):
-    """Converter to int that names the attribute in its error messages (see :func:`as_integer`)."""
-    return lambda owner, value: as_integer(value, f"{type(owner).__name__}.{name}")
+def to_int(name: str, minimum: int | None = None):
+    """Converter to int that names the attribute in its error messages (see :func:`as_integer`); with
+    ``minimum``, smaller values are refused (a number of steps: 1)."""
+
+    def convert(owner, value):
+        n = as_integer(value, f"{type(owner).__name__}.{name}")
+        if minimum is not None and n < minimum:
+            raise ValueError(f"{type(owner).__name__}.{name} must be at least {minimum}, got {n}")
+        return n
+
+    return convert
 
 
 def to_bool(owner, value):

@@ -9,33 +9,11 @@ import functools
 
 import numpy as np
 
-from granum.core.attrs import Attr, as_integer, only_default, to_bool, to_float
+from granum.core.attrs import Attr, only_default, to_bool, to_float, to_int
 from granum.engines.base import GlobalEngine
 from granum.kernels import timestep as k
 from granum.kernels.dispatch import code_of, functors
 from granum.physics import registry
-
-
-def _interval(owner, value):
-    n = as_integer(value, f"{type(owner).__name__}.timeStepUpdateInterval")
-    if n < 1:
-        raise ValueError(f"{type(owner).__name__}.timeStepUpdateInterval must be at least 1 (update every n "
-                         f"steps), got {n}")
-    return n
-
-
-def _safety(owner, value):
-    x = to_float("timestepSafetyCoefficient")(owner, value)
-    if not x > 0:
-        raise ValueError(f"{type(owner).__name__}.timestepSafetyCoefficient must be positive, got {x!r}")
-    return x
-
-
-def _max_dt(owner, value):
-    x = to_float("maxDt")(owner, value)
-    if not x > 0:
-        raise ValueError(f"{type(owner).__name__}.maxDt must be positive (the largest step, in s), got {x!r}")
-    return x
 
 
 class TimeStepper(GlobalEngine):
@@ -44,7 +22,7 @@ class TimeStepper(GlobalEngine):
     _attrs = {
         "active": Attr(True, "Whether the stepper sets O.dt (``O.dynDt`` switches it)", to_bool),
         "timeStepUpdateInterval": Attr(1, "Update O.dt at the steps whose O.iter is a multiple of this [-]",
-                                       _interval),
+                                       to_int("timeStepUpdateInterval", minimum=1)),
     }
 
 
@@ -70,10 +48,11 @@ class GlobalStiffnessTimeStepper(TimeStepper):
 
     stage = "granum.kernels.timestep:stiffness_time_step_stage"
     _attrs = {
-        "timestepSafetyCoefficient": Attr(0.8, "Safety coefficient s on the critical step [-]", _safety),
+        "timestepSafetyCoefficient": Attr(0.8, "Safety coefficient s on the critical step [-]",
+                                          to_float("timestepSafetyCoefficient", positive=True)),
         "defaultDt": Attr(-1.0, "O.dt before any contact [s] (negative: s·PWaveTimeStep())",
                           to_float("defaultDt", allow_nan=False)),
-        "maxDt": Attr(float(k.NEVER), "Largest step [s]", _max_dt),
+        "maxDt": Attr(float(k.NEVER), "Largest step [s]", to_float("maxDt", positive=True)),
         "viscEl": Attr(False, "Also count the dashpots of ViscElPhys contacts (cn, cs)", to_bool),
         "densityScaling": Attr(False, "Scale the bodies' densities so that their steps are targetDt "
                                       "(not implemented yet: only False)", only_default("densityScaling", False)),

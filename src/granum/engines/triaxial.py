@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 
-from granum.core.attrs import Attr, as_integer, to_bool, to_float
+from granum.core.attrs import Attr, as_integer, to_bool, to_float, to_int
 from granum.core.shapes import ShapeKind
 from granum.engines.base import GlobalEngine
 from granum.kernels import triaxial as k
@@ -24,16 +24,6 @@ def _stress_mask(owner, value):
         raise ValueError(f"{type(owner).__name__}.stressMask must be in 0..7 (bit a set: goal a+1 is a stress, "
                          f"otherwise a strain rate), got {value}")
     return value
-
-
-def _at_least_1(name: str):
-    def convert(owner, value):
-        n = as_integer(value, f"{type(owner).__name__}.{name}")
-        if n < 1:
-            raise ValueError(f"{type(owner).__name__}.{name} must be at least 1 (steps), got {n}")
-        return n
-
-    return convert
 
 
 def _fraction(name: str):
@@ -97,11 +87,11 @@ class TriaxialStressController(GlobalEngine):
         "thickness": Attr(-1.0, "Wall thickness [m] (negative: from the wall boxes)",
                           to_float("thickness", allow_nan=False)),
         "stiffnessUpdateInterval": Attr(10, "Steps between updates of the walls' stiffness",
-                                        _at_least_1("stiffnessUpdateInterval")),
+                                        to_int("stiffnessUpdateInterval", minimum=1)),
         "radiusControlInterval": Attr(10, "Steps between radius changes (internalCompaction)",
-                                      _at_least_1("radiusControlInterval")),
+                                      to_int("radiusControlInterval", minimum=1)),
         "computeStressStrainInterval": Attr(10, "Steps between stress and strain updates",
-                                            _at_least_1("computeStressStrainInterval")),
+                                            to_int("computeStressStrainInterval", minimum=1)),
         **{f"wall_{w}_id": Attr(i, f"Body id of the {w} wall", lambda o, v, w=w: as_integer(v, f"wall_{w}_id"))
            for i, w in enumerate(WALLS)},
         **{f"wall_{w}_activated": Attr(True, f"Whether the {w} wall is moved by the servo", to_bool)
