@@ -144,11 +144,10 @@ def _register(role: str, func, types: tuple, produces: str | None, params, histo
         raise TypeError(f"{name}{inspect.signature(func)}: a {role} functor takes (c, id1, id2, S, C, prm)")
     if len(types) != 2 or not all(isinstance(t, str) for t in types):
         raise TypeError(f"{name}: types is a pair of type names, got {types!r}")
-    known = registry.MATERIALS if role == "phys" else None
     if role == "phys":
         for t in types:
-            if t not in known:
-                raise ValueError(f"{name}: unknown material {t!r} (declared: {', '.join(known)})")
+            if t not in registry.MATERIALS:
+                raise ValueError(f"{name}: unknown material {t!r} (declared: {', '.join(registry.MATERIALS)})")
         if produces not in registry.PHYS_TYPES:
             raise ValueError(f"{name}: unknown physics type {produces!r}; declare it with phys_type()")
     else:
