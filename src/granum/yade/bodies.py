@@ -281,7 +281,7 @@ class _View:
 
 def _vec_property(column: str, doc: str, touch: bool = False):
     def get(self):
-        return Vector3._wrap(self._col(column)[self._row])
+        return Vector3._new(self._col(column)[self._row])  # a float64 (n, 3) column: its row needs no check
 
     def set(self, value):
         self._col(column)[self._row] = _finite3(self._owner(), column, value)
@@ -616,6 +616,14 @@ class Clump(Shape):
         return list(self.members)
 
 
+def _body_of(scene: Scene, i: int) -> Body:
+    """The handle of body ``i`` (a Python int) of ``scene``."""
+    b = object.__new__(Body)
+    object.__setattr__(b, "_store", scene)
+    object.__setattr__(b, "_row", i)
+    return b
+
+
 class BodyContainer:
     """``O.bodies``: bodies by id; appending copies a body into the scene's storage."""
 
@@ -646,16 +654,12 @@ class BodyContainer:
         i = self._check(i)
         if not self._scene.bodies.alive[i]:
             return None
-        b = object.__new__(Body)
-        object.__setattr__(b, "_store", self._scene)
-        object.__setattr__(b, "_row", i)
-        return b
+        return _body_of(self._scene, i)
 
     def __iter__(self):
-        for i in range(self._scene.body_count):
-            b = self[i]
-            if b is not None:
-                yield b
+        scene = self._scene
+        for i in np.flatnonzero(scene.bodies.alive[:scene.body_count]).tolist():
+            yield _body_of(scene, i)
 
     @pauses_the_run
     def append(self, b):
