@@ -101,3 +101,31 @@ def test_pair_search_against_a_scan(n):
         for b in range(31):
             expected = pairs.index((min(a, b), max(a, b))) if (min(a, b), max(a, b)) in pairs else -1
             assert intr_module.find_pair(C, a, b) == expected
+
+
+def test_bulk_arrays_equal_the_per_item_values(yade):
+    y = yade
+    assert y.O.interactions.arrays("normalForce")["normalForce"].shape == (0, 3)
+    _pile(y, 3)
+    y.O.bodies.append(y.wall(-0.6, axis=2))  # a wall contact: ScGeom and FrictPhys too, another geometry functor
+    y.O.run(5, True)
+    walked = list(y.O.interactions)
+    got = y.O.interactions.arrays("normalForce", "penetrationDepth", "kn", "contactPoint")
+    assert got["id1"].tolist() == [i.id1 for i in walked] and got["id2"].tolist() == [i.id2 for i in walked]
+    assert np.array_equal(got["normalForce"], [list(i.phys.normalForce) for i in walked])
+    assert np.array_equal(got["kn"], [i.phys.kn for i in walked])
+    assert np.array_equal(got["penetrationDepth"], [i.geom.penetrationDepth for i in walked])
+    assert np.array_equal(got["contactPoint"], [list(i.geom.contactPoint) for i in walked])
+    with pytest.raises(ValueError, match="'normalForse'"):
+        y.O.interactions.arrays("normalForse")
+    bodies = y.O.bodies.arrays("pos", "angVel", "mass", "force", "ori")
+    assert bodies["ids"].tolist() == [b.id for b in y.O.bodies]
+    assert np.array_equal(bodies["pos"], [list(b.state.pos) for b in y.O.bodies])
+    assert np.array_equal(bodies["angVel"], [list(b.state.angVel) for b in y.O.bodies])
+    assert np.array_equal(bodies["mass"], [b.state.mass for b in y.O.bodies])
+    assert np.array_equal(bodies["force"], [list(y.O.forces.f(b.id)) for b in y.O.bodies])
+    assert np.array_equal(bodies["ori"][:, 0], [b.state.ori[3] for b in y.O.bodies])  # (w, x, y, z); YADE's w is [3]
+    y.O.bodies.erase(4)
+    assert 4 not in y.O.bodies.arrays()["ids"].tolist()
+    with pytest.raises(ValueError, match="'position'"):
+        y.O.bodies.arrays("position")

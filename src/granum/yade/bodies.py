@@ -661,6 +661,30 @@ class BodyContainer:
         for i in np.flatnonzero(scene.bodies.alive[:scene.body_count]).tolist():
             yield _body_of(scene, i)
 
+    #: ``arrays()`` names: YADE's State attribute (or O.forces quantity) -> body column
+    ARRAY_COLUMNS = {"pos": "pos", "vel": "vel", "angVel": "ang_vel", "ori": "ori", "angMom": "ang_mom",
+                     "inertia": "inertia", "mass": "mass", "refPos": "ref_pos", "refOri": "ref_ori",
+                     "force": "force", "torque": "torque"}
+
+    def arrays(self, *names: str) -> dict[str, np.ndarray]:
+        """granum's bulk access (not in YADE): the quantities ``names`` of every existing body as NumPy arrays,
+        one row per body in the order of ``ids``, copied (later steps do not change them).
+
+        ``ids`` (n,) int64 is always included. Names are YADE's: ``pos``, ``vel``, ``angVel``, ``angMom``,
+        ``inertia``, ``refPos`` (n, 3) [m, m/s, rad/s, kg m²/s, kg m², m]; ``ori``, ``refOri`` (n, 4), quaternions
+        as (w, x, y, z); ``mass`` (n,) [kg]; ``force`` (n, 3) [N] and ``torque`` (n, 3) [N m], those of
+        ``O.forces`` (the last step's). Example: ``z = O.bodies.arrays("pos")["pos"][:, 2]``."""
+        unknown = [n for n in names if n not in self.ARRAY_COLUMNS]
+        if unknown:
+            raise ValueError(f"O.bodies.arrays: unknown quantities {unknown}; known: {sorted(self.ARRAY_COLUMNS)}")
+        bodies = self._scene.bodies
+        ids = np.flatnonzero(bodies.alive[:self._scene.body_count])
+        out = {"ids": ids}
+        for name in names:
+            column = bodies.stored(self.ARRAY_COLUMNS[name])
+            out[name] = column[ids] if len(column) else np.zeros((ids.size,) + column.shape[1:])
+        return out
+
     @pauses_the_run
     def append(self, b):
         """Add a body (return its id) or a list of bodies (return the list of ids)."""

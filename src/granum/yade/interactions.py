@@ -387,6 +387,46 @@ class InteractionContainer:
         rows = self._live_rows()
         return int(self._live_pairs().size) + int(np.count_nonzero(C.con_i[rows, I_PAIR] < 0))
 
+    def arrays(self, *names: str) -> dict[str, np.ndarray]:
+        """granum's bulk access (not in YADE): fields of every real interaction as NumPy arrays, one row per
+        interaction in iteration order, copied (later steps do not change them).
+
+        ``id1`` and ``id2`` (k,) int64 are always included. ``names`` are fields of ``i.geom`` or ``i.phys``
+        (``normalForce``, ``shearForce`` (k, 3) [N], ``penetrationDepth`` (k,) [m], ``contactPoint``,
+        ``normal`` (k, 3), ``kn`` (k,) [N/m]...): a float field gives (k,), a vector (k, 3), a quaternion (k, 4),
+        a matrix (k, 3, 3). A field that one of the real interactions' geometry or physics lacks is refused,
+        naming the type. Example: ``fn = O.interactions.arrays("normalForce")["normalForce"]``."""
+        C = self._scene.contacts
+        rows = self._live_rows()
+        out = {"id1": C.con_i[rows, I_ID1].astype(np.int64), "id2": C.con_i[rows, I_ID2].astype(np.int64)}
+        for name in names:
+            values = None
+            for role, code_column in (("geom", I_GEOM), ("phys", I_PHYS)):
+                codes = C.con_i[rows, code_column]
+                classes = {int(c): _view_class(role, int(c)) for c in np.unique(codes)}
+                if not any(name in cls._fields for cls in classes.values()):
+                    continue
+                for code, cls in classes.items():
+                    field = cls._fields.get(name)
+                    if field is None:
+                        raise ValueError(f"O.interactions.arrays: {cls.__name__} has no field {name!r}")
+                    col, width = field[:2]
+                    mine = codes == code
+                    if values is None:
+                        values = np.zeros((rows.size, width))
+                    values[mine] = C.con_f[rows[mine], col:col + width]
+                break
+            if values is None:
+                widths = {cls._fields[name][1] for views in (GEOM_VIEWS, PHYS_VIEWS) for cls in views.values()
+                          if name in cls._fields}
+                if rows.size or len(widths) != 1:  # with no real interaction: empty, if the name is a field
+                    raise ValueError(f"O.interactions.arrays: no geometry or physics of the real interactions has "
+                                     f"a field {name!r}")
+                values = np.zeros((0, widths.pop()))
+            width = values.shape[1]
+            out[name] = values[:, 0] if width == 1 else values.reshape(-1, 3, 3) if width == 9 else values
+        return out
+
     def countReal(self) -> int:
         return int(self._live_rows().size)
 
