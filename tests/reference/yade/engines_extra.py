@@ -18,8 +18,8 @@
 #                     spheres with masks 1, 2, 3 (one on the axis).
 #  central_accel:     CentralConstantAccelerationEngine(centralBody 0, accel 2, reciprocal False/True, mask 0) on
 #                     spheres of radius .1 (one fixed) and .2.
-#  drag / linear_drag: DragEngine(Rho 1000, Cd 0.5) and LinearDragEngine(nu 0.2) on a moving sphere and a
-#                     facet listed in ids.
+#  drag / linear_drag: DragEngine(Rho 1000, Cd 0.5) and LinearDragEngine(nu 0.2) on two moving spheres and a
+#                     moving (fixed) facet listed in ids.
 #  pedal:             BicyclePedalEngine(angularVelocity 2, rotationAxis (0,0,1), radius 0.5 / -1, fi default)
 #                     on a fixed sphere.
 #  servo:             ServoPIDController (after NewtonIntegrator, as in examples/PIDController.py) on two fixed
@@ -91,9 +91,8 @@ def drag_scene(engine):
     b = spheres(((0, 0, 0), False, 1), ((1, 0, 0), False, 1))
     b[0].state.vel = (3, -4, 0)
     b[1].state.vel = (0, 0, 2)
-    f = facet([(0, 0, 1), (1, 0, 1), (0, 1, 1)], fixed=False)
+    f = facet([(0, 0, 1), (1, 0, 1), (0, 1, 1)])  # fixed, moving: the drag engines skip it
     f.state.vel = (1, 0, 0)
-    f.state.mass = 1
     return scene(b + [f], [engine], 5)
 
 
