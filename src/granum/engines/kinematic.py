@@ -160,14 +160,14 @@ def kinematic_params(engine, parts: list, scene) -> KinematicParams:
     return KinematicParams(ids=engine.id_array(scene), parts=rows, state=state, tables=table)
 
 
-def _state_property(column: int, doc: str):
-    """A float attribute stored in the engine's state row (written by the stage)."""
+def _state_property(column: int, name: str, doc: str):
+    """The float attribute ``name``, stored in the engine's state row (written by the stage)."""
 
     def get(self) -> float:
         return float(self._state[column])
 
     def put(self, value) -> None:
-        self._state[column] = as_number(value, f"{type(self).__name__}")
+        self._state[column] = as_number(value, f"{type(self).__name__}.{name}")
 
     return property(get, put, doc=doc)
 
@@ -248,7 +248,7 @@ class HelixEngine(RotationEngine):
         "linearVelocity": Attr(0.0, "Speed along rotationAxis [m/s]", to_float("linearVelocity")),
         "angleTurned": Attr(0.0, "Angle turned so far [rad]", to_float("angleTurned")),
     }
-    angleTurned = _state_property(ST_TURNED, "Angle turned so far [rad]")
+    angleTurned = _state_property(ST_TURNED, "angleTurned", "Angle turned so far [rad]")
 
     def part(self) -> np.ndarray:
         object.__setattr__(self, "rotateAroundZero", True)
@@ -269,8 +269,8 @@ class InterpolatingHelixEngine(HelixEngine):
         "wrap": Attr(False, "Wrap the time around the table", to_bool),
         "slope": Attr(0.0, "Axial translation per radian turned [m/rad]", to_float("slope")),
     }
-    angularVelocity = _state_property(ST_SPEED, "Angular speed of the last step [rad/s]")
-    linearVelocity = _state_property(ST_LINEAR, "Speed along the axis of the last step [m/s]")
+    angularVelocity = _state_property(ST_SPEED, "angularVelocity", "Angular speed of the last step [rad/s]")
+    linearVelocity = _state_property(ST_LINEAR, "linearVelocity", "Speed along the axis of the last step [m/s]")
 
     def table(self):
         return _table(self, self.times, self.angularVelocities, ("times", "angularVelocities"))
@@ -305,7 +305,7 @@ class HarmonicRotationEngine(RotationEngine):
         "f": Attr(0.0, "Frequency [Hz], >= 0", _non_negative("f")),
         "fi": Attr(math.pi / 2, "Initial phase [rad]", to_float("fi")),
     }
-    angularVelocity = _state_property(ST_SPEED, "Angular speed of the last step [rad/s]")
+    angularVelocity = _state_property(ST_SPEED, "angularVelocity", "Angular speed of the last step [rad/s]")
 
     def part(self) -> np.ndarray:
         return part_row(KIND_HARMONIC_ROTATION, axis=_unit(self, "rotationAxis", self.rotationAxis),
@@ -359,11 +359,11 @@ class ServoPIDController(TranslationEngine):
         "errorPrev": Attr(0.0, "Error at the update before [N]"),
         "iterPrevStart": Attr(-1, "Step of the last update (-1: none yet)"),
     }
-    iTerm = _state_property(ST_I_TERM, "Integral term [m/s]")
-    curVel = _state_property(ST_CUR_VEL, "Speed applied [m/s]")
-    velocity = _state_property(ST_CUR_VEL, "Speed applied [m/s] (curVel)")
-    errorCur = _state_property(ST_ERROR, "Error at the last update [N]")
-    errorPrev = _state_property(ST_ERROR_PREV, "Error at the update before [N]")
+    iTerm = _state_property(ST_I_TERM, "iTerm", "Integral term [m/s]")
+    curVel = _state_property(ST_CUR_VEL, "curVel", "Speed applied [m/s]")
+    velocity = _state_property(ST_CUR_VEL, "velocity", "Speed applied [m/s] (curVel)")
+    errorCur = _state_property(ST_ERROR, "errorCur", "Error at the last update [N]")
+    errorPrev = _state_property(ST_ERROR_PREV, "errorPrev", "Error at the update before [N]")
 
     @property
     def iterPrevStart(self) -> int:
