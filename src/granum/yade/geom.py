@@ -68,11 +68,14 @@ def _segments(fname: str, segmentsNumber, minimum: int = 3) -> int:
     return n
 
 
-def _angles(fname: str, angleRange, n: int, max_span: float = 2 * math.pi) -> np.ndarray:
-    """The n + 1 angles [rad] of n equal segments of ``angleRange`` (None: a full turn), (n+1,)."""
+def _angles(fname: str, angleRange, n: int, helix: bool = False) -> np.ndarray:
+    """The n + 1 angles [rad] of n equal segments of ``angleRange`` (None: a full turn), (n+1,). A cylinder's
+    range increases and spans at most a turn; a helix's or polygon's may go either way and turn many times
+    (YADE 2023.02a)."""
     a0, a1 = (0.0, 2 * math.pi) if angleRange is None else (float(angleRange[0]), float(angleRange[1]))
-    _check(fname, a1 >= a0, f"angleRange must be increasing, got {angleRange!r}")
-    _check(fname, a1 - a0 <= max_span, f"angleRange may span at most 2*pi, got {angleRange!r}")
+    if not helix:
+        _check(fname, a1 >= a0, f"angleRange must be increasing, got {angleRange!r}")
+        _check(fname, a1 - a0 <= 2 * math.pi, f"angleRange may span at most 2*pi, got {angleRange!r}")
     return a0 + np.arange(n + 1) * ((a1 - a0) / n)
 
 
@@ -213,8 +216,8 @@ def _polygon_helix(fname, radiusOuter, pitch, segmentsNumber, angleRange, radius
     n = _segments(fname, segmentsNumber)
     r_out = _positive(fname, "radiusOuter", radiusOuter)
     r_in = _positive(fname, "radiusInner", radiusInner, zero_ok=True)
-    angles = _angles(fname, angleRange, n, max_span=math.inf)  # a helix may make several turns
-    z = pitch * (angles - angles[0]) / (2 * math.pi)
+    angles = _angles(fname, angleRange, n, helix=True)
+    z = pitch * np.abs(angles - angles[0]) / (2 * math.pi)  # rising whichever way it turns
     outer = _arc(r_out, angles, z)
     tris = _strip(_HELIX_RING, _arc(r_in, angles, z), outer) if r_in > 0 else _strip(_HELIX_FAN, _axis_line(z, n),
                                                                                        outer)

@@ -43,6 +43,8 @@ CASES = {
     'helix': ('facetHelix', [(0, 0, 0)], dict(radiusOuter=2, pitch=1, segmentsNumber=4, radiusInner=0.5)),
     'helix_turns': ('facetHelix', [(0, 0, 0)], dict(radiusOuter=2, pitch=1, segmentsNumber=4, angleRange=(0, 4 * pi))),
     'helix_range': ('facetHelix', [(0, 0, 0)], dict(radiusOuter=2, pitch=1, segmentsNumber=3, angleRange=(pi / 2, 3 * pi / 2), radiusInner=1)),
+    'helix_decreasing': ('facetHelix', [(0, 0, 0)], dict(radiusOuter=2, pitch=1, segmentsNumber=3, angleRange=(2 * pi, 0), radiusInner=0.5)),
+    'polygon_decreasing': ('facetPolygon', [(0, 0, 0), 2], dict(segmentsNumber=3, angleRange=(pi, 0))),
     'helix_oriented': ('facetHelix', [(1, 1, 1), 2, 0.5], dict(orientation=Q, segmentsNumber=6, radiusInner=0.2)),
     'polygon_ring': ('facetPolygon', [(0, 0, 0), 2], dict(segmentsNumber=4, radiusInner=1, angleRange=(0, pi))),
     'polygon_fan': ('facetPolygon', [(0, 0, 0), 2], dict(segmentsNumber=3, angleRange=(pi / 2, 3 * pi / 2))),
