@@ -214,6 +214,16 @@ class Body:
             self._col("ang_mom")[self._row] = r @ (self._col("inertia")[self._row] * (r.T @ w))
 
     @property
+    def iterBorn(self) -> int:
+        """Step (``O.iter``) at which the body was appended; -1 for a body not in a simulation."""
+        return int(self._store.born.iter[self._row]) if self._attached() else -1
+
+    @property
+    def timeBorn(self) -> float:
+        """Simulated time (``O.time``) at which the body was appended [s]; -1 for a body not in a simulation."""
+        return float(self._store.born.time[self._row]) if self._attached() else -1.0
+
+    @property
     def clumpId(self) -> int:
         return int(self._col("clump_id")[self._row])
 
