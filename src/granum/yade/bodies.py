@@ -611,7 +611,8 @@ class Clump(Shape):
 
     @property
     def members(self) -> dict:
-        """Member ids and their offsets in the clump frame: ``{id: (Vector3, Quaternion)}``."""
+        """Member ids and their offsets in the clump frame: ``{id: (Vector3, Quaternion)}``, by increasing id
+        (YADE keeps members in a map by id)."""
         from granum.yade.clumps import clump_members
 
         b = self._body
@@ -619,7 +620,7 @@ class Clump(Shape):
             return {}
         bt = b._store.bodies
         return {i: (Vector3(*bt.clump_rel_pos[i]), Quaternion(*bt.clump_rel_ori[i]))
-                for i in clump_members(b._store, b._row)}
+                for i in sorted(clump_members(b._store, b._row))}
 
     @property
     def ids(self) -> list:
