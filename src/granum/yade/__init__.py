@@ -48,6 +48,7 @@ from granum.engines.pipeline import (
     LawDispatcher,
     NewtonIntegrator,
 )
+from granum.engines.domain import DomainLimiter
 from granum.engines.pyrunner import PyRunner
 from granum.engines.runner import SimulationError
 from granum.engines.timestepper import GlobalStiffnessTimeStepper, TimeStepper
@@ -123,7 +124,7 @@ _namespace.update(
     TriaxialStateRecorder=TriaxialStateRecorder,
     ForceEngine=ForceEngine, TranslationEngine=TranslationEngine, RotationEngine=RotationEngine,
     KinematicEngine=KinematicEngine, HelixEngine=HelixEngine, CombinedKinematicEngine=CombinedKinematicEngine,
-    ParallelEngine=ParallelEngine,
+    ParallelEngine=ParallelEngine, DomainLimiter=DomainLimiter,
     SimulationError=SimulationError, Body=Body, State=State, Shape=Shape, Aabb=Aabb, Cell=Cell,
     Interaction=Interaction, Vector2=Vector2, Vector2i=Vector2i, Vector3=Vector3,
     Vector3i=Vector3i, Vector6=Vector6, Matrix3=Matrix3, Quaternion=Quaternion,
