@@ -299,3 +299,30 @@ def test_save_load_of_an_edited_clump_continues_identically(yade, tmp_path):
     O.run(300, True)
     for name, value in _snapshot(O).items():
         np.testing.assert_array_equal(value, ref[name], err_msg=name)
+
+
+def test_text_clumps_round_trip(yade, tmp_path):
+    """export.textClumps writes YADE's lines (%g, clumps and members by id, mask, comment) and returns
+    (clumps, spheres); ymport.textClumps reads them back scaled, turned and shifted, one clump per id
+    in order of first appearance (as YADE 2023.02a: a 90 degree turn about z of (0.2, 0, 1) scaled by 2
+    gives (0, 0.4, 2))."""
+    O, s = yade.O, yade.sphere
+    O.bodies.append(s((5, 5, 5), 1))
+    O.bodies.appendClumped([s((0.123456789, 1e-7, -3.5), 0.333333333, mask=3), s((1, 2, 12345.678), 0.25)])
+    path = str(tmp_path / "c.txt")
+    assert yade.export.textClumps(path, comment="hello\n#second") == (1, 2)
+    assert open(path).read() == ("#format x_y_z_r_clumpId\n# hello\n#second\n0.123457\t1e-07\t-3.5\t0.333333\t3\n"
+                                 "1\t2\t12345.7\t0.25\t3\n")
+    assert yade.export.textClumps(path, mask=2) == (1, 1)
+    with pytest.raises(ValueError, match="format"):
+        yade.export.textClumps(path, format="x_y_z_r")
+    O.reset()
+    with open(path, "w") as f:
+        f.write("#x\n1 2 3 0.5 7\n1.5 2 3 0.5 7\n5 5 5 1 2\n5 6 5 1 2\n9 9 9 1 4\n")
+    assert yade.ymport.textClumps(path) == [(2, [0, 1]), (5, [3, 4]), (7, [6])]
+    with open(path, "w") as f:
+        f.write("0 0 1 0.5 3\n0.2 0 1 0.5 3\n")
+    cid, ids = yade.ymport.textClumps(path, scale=2.0, orientation=yade.Quaternion((0, 0, 1), math.pi / 2),
+                                      shift=(0, 0, 1))[0]
+    np.testing.assert_allclose(np.asarray(O.bodies[ids[1]].state.pos), (0, 0.4, 3), atol=1e-15)
+    assert O.bodies[ids[1]].shape.radius == 1.0

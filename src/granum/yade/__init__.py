@@ -25,6 +25,7 @@ from future import standard_library as _standard_library
 from granum import idem
 from granum.engines.base import Engine, GlobalEngine, PartialEngine, PeriodicEngine
 from granum.engines.controllers import PeriTriaxController
+from granum.engines.domain import DomainLimiter
 from granum.engines.functors import CLASSES as _FUNCTORS
 from granum.engines.functors import BoundFunctor, Functor, IGeomFunctor, IPhysFunctor, LawFunctor
 from granum.engines.kinematic import (
@@ -48,7 +49,6 @@ from granum.engines.pipeline import (
     LawDispatcher,
     NewtonIntegrator,
 )
-from granum.engines.domain import DomainLimiter
 from granum.engines.pyrunner import PyRunner
 from granum.engines.runner import SimulationError
 from granum.engines.timestepper import GlobalStiffnessTimeStepper, TimeStepper

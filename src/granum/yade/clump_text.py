@@ -42,7 +42,7 @@ def write(filename, format=FORMAT, comment="", mask=-1):  # noqa: A002 (YADE's a
                 if b.shape_kind[m] == ShapeKind.SPHERE and (mask == -1 or b.mask[m] & int(mask))]
         for m in rows:
             x, y, z = b.pos[m]
-            lines.append("%g\t%g\t%g\t%g\t%d" % (x, y, z, radius[b.shape_row[m]], c))
+            lines.append(f"{x:g}\t{y:g}\t{z:g}\t{radius[b.shape_row[m]]:g}\t{c:d}")
         clumps += bool(rows)
         spheres += len(rows)
     write_text(filename, "\n".join(lines) + "\n")
