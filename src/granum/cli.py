@@ -17,15 +17,22 @@ import types
 
 
 class _YadeAlias(importlib.abc.MetaPathFinder, importlib.abc.Loader):
-    """Resolve ``yade`` and ``yade.*`` to ``granum.yade`` (installed by the launcher only)."""
+    """Resolve ``yade`` and ``yade.*`` to ``granum.yade`` (installed by the launcher only), and the
+    top-level ``bf`` to ``granum.yade.bf``: YADE's launcher puts its package folder on ``sys.path``,
+    and its breakage examples ``from bf import ...``."""
+
+    #: top-level names of yade submodules that YADE's scripts import without ``yade.``
+    TOP_LEVEL = ("bf",)
 
     def find_spec(self, fullname, path=None, target=None):
-        if fullname == "yade" or fullname.startswith("yade."):
+        top = fullname.split(".")[0]
+        if fullname == "yade" or fullname.startswith("yade.") or top in self.TOP_LEVEL:
             return importlib.util.spec_from_loader(fullname, self)
         return None
 
     def create_module(self, spec):
-        return importlib.import_module("granum." + spec.name)
+        name = spec.name if spec.name.split(".")[0] == "yade" else "yade." + spec.name
+        return importlib.import_module("granum." + name)
 
     def exec_module(self, module):
         sys.modules[module.__spec__.name] = module

@@ -25,6 +25,7 @@ from future import standard_library as _standard_library
 from granum import idem
 from granum.engines.base import Engine, GlobalEngine, PartialEngine, PeriodicEngine
 from granum.engines.controllers import PeriTriaxController
+from granum.engines.domain import DomainLimiter
 from granum.engines.fields import (
     AxialGravityEngine,
     CentralConstantAccelerationEngine,
@@ -137,6 +138,7 @@ _namespace.update(
     TriaxialStateRecorder=TriaxialStateRecorder,
     ForceEngine=ForceEngine, TranslationEngine=TranslationEngine, RotationEngine=RotationEngine,
     KinematicEngine=KinematicEngine, HelixEngine=HelixEngine, CombinedKinematicEngine=CombinedKinematicEngine,
+    DomainLimiter=DomainLimiter,
     ParallelEngine=ParallelEngine, HarmonicMotionEngine=HarmonicMotionEngine,
     HarmonicRotationEngine=HarmonicRotationEngine, InterpolatingHelixEngine=InterpolatingHelixEngine,
     BicyclePedalEngine=BicyclePedalEngine, ServoPIDController=ServoPIDController, TorqueEngine=TorqueEngine,

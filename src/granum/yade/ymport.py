@@ -6,6 +6,9 @@ that the importer is not implemented in this version of granum.
 
 from __future__ import annotations
 
+# clumps in YADE's x_y_z_r_clumpId text format (written by export.textClumps)
+from granum.yade.clump_text import read as textClumps  # noqa: F401
+
 
 def _missing(name):
     def f(*args, **kw):
@@ -20,4 +23,3 @@ gts = _missing("gts")
 gmsh = _missing("gmsh")
 textFacets = _missing("textFacets")
 text = _missing("text")
-textClumps = _missing("textClumps")
