@@ -17,15 +17,16 @@ import types
 
 
 class _YadeAlias(importlib.abc.MetaPathFinder, importlib.abc.Loader):
-    """Resolve ``yade`` and ``yade.*`` to ``granum.yade`` (installed by the launcher only)."""
+    """Resolve ``yade`` and ``yade.*`` to ``granum.yade``, and ``gts`` (PyGTS, which YADE scripts import) to
+    ``granum.yade.gts`` (installed by the launcher only)."""
 
     def find_spec(self, fullname, path=None, target=None):
-        if fullname == "yade" or fullname.startswith("yade."):
+        if fullname in ("yade", "gts") or fullname.startswith("yade."):
             return importlib.util.spec_from_loader(fullname, self)
         return None
 
     def create_module(self, spec):
-        return importlib.import_module("granum." + spec.name)
+        return importlib.import_module("granum.yade.gts" if spec.name == "gts" else "granum." + spec.name)
 
     def exec_module(self, module):
         sys.modules[module.__spec__.name] = module
