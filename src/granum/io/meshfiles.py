@@ -40,8 +40,7 @@ def library(name: str, purpose: str):
     try:
         return importlib.import_module(name)
     except ImportError:
-        dist = {"stl": "numpy-stl"}.get(name, name)
-        raise ImportError(f"{purpose} needs the package {dist!r}, which is not installed: "
+        raise ImportError(f"{purpose} needs the package {name!r}, which is not installed: "
                           f"pip install granum[mesh]") from None
 
 
@@ -156,7 +155,7 @@ def read_stl(path) -> np.ndarray:
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            mesh = meshio.read(path, file_format="stl")
+            mesh = meshio.stl.read(path)  # not meshio.read, which calls sys.exit on a bad file
         tri = np.concatenate([mesh.points[c.data] for c in mesh.cells if c.type == "triangle"]).astype(np.float64) \
             if mesh.cells else np.empty((0, 3, 3))
     except Exception as e:  # the library's message rarely names the place; find it
@@ -320,7 +319,7 @@ def read_medit(path):
     problem = _medit_problem(path)
     if problem is None:
         try:
-            mesh = meshio.read(path, file_format="medit")
+            mesh = meshio.medit.read(path)  # not meshio.read, which calls sys.exit on a bad file
         except Exception as e:
             raise MeshFileError(path, "", f"not a valid MEDIT .mesh file ({e})") from e
     else:

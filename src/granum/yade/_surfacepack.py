@@ -24,6 +24,10 @@ from granum.yade.pack import Predicate
 __all__ = ["gtsSurface2Facets", "inConvexPolyhedron", "inGtsSurface", "revolutionSurfaceMeridians",
            "sweptPolylines2gtsSurface"]
 
+#: the defaults YADE gives (never modified)
+_ORIGIN = Vector3(0, 0, 0)
+_NO_ROTATION = Quaternion((1, 0, 0), 0)
+
 
 class inGtsSurface(Predicate):
     """Inside the closed gts surface ``surf``. The surface is read once, when the predicate is made (later
@@ -132,7 +136,7 @@ def sweptPolylines2gtsSurface(pts, threshold=0, capStart=False, capEnd=False):
     return surf
 
 
-def revolutionSurfaceMeridians(sects, angles, origin=Vector3(0, 0, 0), orientation=Quaternion((1, 0, 0), 0)):
+def revolutionSurfaceMeridians(sects, angles, origin=_ORIGIN, orientation=_NO_ROTATION):
     """Meridians of a surface of revolution about z: section k (2D points ``(x, y)``) turned by ``angles[k]``
     [rad] becomes the 3D points ``origin + orientation * (x cos a, x sin a, y)``; a list of lists of Vector3,
     ready for :func:`sweptPolylines2gtsSurface`."""

@@ -22,6 +22,10 @@ from granum.mathtypes import Matrix3, Quaternion, Vector3, as_vec3
 
 __all__ = ["gmsh", "gts", "stl", "text", "textClumps", "textExt", "textFacets", "unv"]
 
+#: the defaults YADE gives (never modified)
+_ORIGIN = Vector3(0, 0, 0)
+_NO_ROTATION = Quaternion((1, 0, 0), 0)
+
 
 def _place(points, shift, scale, orientation=None) -> np.ndarray:
     """``orientation * (scale * points) + shift`` for points (..., 3) [m]."""
@@ -44,7 +48,7 @@ def _spheres(xyzr, kw) -> list:
 
 
 def stl(file, dynamic=None, fixed=True, wire=True, color=None, highlight=False, noBound=False, material=-1,
-        scale=1.0, shift=Vector3(0, 0, 0)):
+        scale=1.0, shift=_ORIGIN):
     """Facets of an STL file (ASCII or binary), one per triangle, vertices ``scale * v + shift``.
 
     ``dynamic``/``fixed``/``wire``/``color``/``highlight``/``noBound``/``material`` are ``utils.facet``'s
@@ -54,13 +58,13 @@ def stl(file, dynamic=None, fixed=True, wire=True, color=None, highlight=False, 
                              noBound=noBound, material=material))
 
 
-def gts(meshfile, shift=Vector3(0, 0, 0), scale=1.0, **kw):
+def gts(meshfile, shift=_ORIGIN, scale=1.0, **kw):
     """Facets of a GTS surface file (one per face, in file order); ``**kw`` goes to ``utils.facet``."""
     xyz, edges, faces = meshfiles.read_gts(meshfile)
     return _facets(_place(xyz, shift, scale)[meshfiles.face_vertices(edges, faces)], kw)
 
 
-def gmsh(meshfile="file.mesh", shift=Vector3(0, 0, 0), scale=1.0, orientation=Quaternion((1, 0, 0), 0), **kw):
+def gmsh(meshfile="file.mesh", shift=_ORIGIN, scale=1.0, orientation=_NO_ROTATION, **kw):
     """Facets of the triangles of a MEDIT ``.mesh`` file (what gmsh writes), vertices
     ``orientation * (scale * v) + shift``; ``**kw`` goes to ``utils.facet``."""
     pts, tri = meshfiles.read_medit(meshfile)
@@ -79,7 +83,7 @@ def unv(fileName, shift=(0, 0, 0), scale=1.0, returnConnectivityTable=False, **k
     return facets
 
 
-def textExt(fileName, format="x_y_z_r", shift=Vector3(0, 0, 0), scale=1.0, attrs=None, **kw):
+def textExt(fileName, format="x_y_z_r", shift=_ORIGIN, scale=1.0, attrs=None, **kw):
     """Spheres from a text file with one sphere a line (``#`` lines skipped), columns by ``format``:
 
     * ``'x_y_z_r'``: centre and radius;
@@ -104,12 +108,12 @@ def textExt(fileName, format="x_y_z_r", shift=Vector3(0, 0, 0), scale=1.0, attrs
     return bodies
 
 
-def text(fileName, shift=Vector3(0, 0, 0), scale=1.0, **kw):
+def text(fileName, shift=_ORIGIN, scale=1.0, **kw):
     """Spheres from a file of ``x y z r`` lines (``textExt`` with format ``'x_y_z_r'``)."""
     return textExt(fileName, "x_y_z_r", shift, scale, **kw)
 
 
-def textFacets(fileName, format="x1_y1_z1_x2_y2_z2_x3_y3_z3", shift=Vector3(0, 0, 0), scale=1.0, attrs=None, **kw):
+def textFacets(fileName, format="x1_y1_z1_x2_y2_z2_x3_y3_z3", shift=_ORIGIN, scale=1.0, attrs=None, **kw):
     """Facets from a text file with one facet a line (``#`` lines skipped), columns by ``format``:
     ``'x1_y1_z1_x2_y2_z2_x3_y3_z3'`` (the three vertices), ``..._matId`` (and a material id),
     ``'id_..._matId'`` (a leading body id, not used, and a material id), or ``..._attrs`` (further
@@ -135,7 +139,7 @@ def textFacets(fileName, format="x1_y1_z1_x2_y2_z2_x3_y3_z3", shift=Vector3(0, 0
     return bodies
 
 
-def textClumps(fileName, shift=Vector3(0, 0, 0), discretization=0, orientation=Quaternion((1, 0, 0), 0), scale=1.0,
+def textClumps(fileName, shift=_ORIGIN, discretization=0, orientation=_NO_ROTATION, scale=1.0,
                **kw):
     """Clumps of spheres from a file of ``x y z r clumpId`` lines, added to ``O.bodies``: the spheres of
     each clump id (ids in order of first appearance) are appended and clumped (``appendClumped``).
