@@ -186,6 +186,30 @@ def test_surface_builders_equal_yade():
     assert dict(Nvertices=sw.Nvertices, Nfaces=sw.Nfaces, area=sw.area(), closed=sw.is_closed()) == ref["swept"]
 
 
+def test_copy_adds_faces_as_gts_does():
+    """rotating-cylinder.py: ``cyl.copy(sq)`` adds the square's faces to the cylinder (GTS's surface copy)."""
+    r = reference("ymport")["rotating_cylinder"]
+    th = np.linspace(0, 2 * np.pi, 24, endpoint=True)
+    base = [Vector3(math.cos(t), math.sin(t), -1) for t in th]
+    cyl = pack.sweptPolylines2gtsSurface([base, [p + Vector3(0, 0, 2) for p in base]])
+    vv = [gts.Vertex(1, 1, 0), gts.Vertex(-1, 1, 0), gts.Vertex(-1, -1, 0), gts.Vertex(1, -1, 0)]
+    ee = [gts.Edge(vv[0], vv[1]), gts.Edge(vv[1], vv[2]), gts.Edge(vv[2], vv[3]), gts.Edge(vv[3], vv[0]),
+          gts.Edge(vv[0], vv[2])]
+    sq = gts.Surface()
+    sq.add(gts.Face(ee[0], ee[1], ee[4]))
+    sq.add(gts.Face(ee[2], ee[3], ee[4]))
+    sq.translate(0, 0, -1)
+    cyl.copy(sq)
+    cyl.scale(.2, .2, .5)
+    cyl.rotate(1, 0, 0, -np.pi / 4)
+    fs = pack.gtsSurface2Facets(cyl)
+    assert (cyl.Nfaces, cyl.Nvertices, len(fs)) == (r["Nfaces"], r["Nvertices"], r["facets"])
+    assert cyl.area() == pytest.approx(r["area"], rel=1e-13)
+    total = np.sum([list(b.state.pos + v) for b in fs for v in b.shape.vertices], axis=0)
+    np.testing.assert_allclose(total, r["vertex_sum"], atol=1e-13)
+    assert vv[0].coords() == (1.0, 1.0, -1.0)  # the copy is deep: sq's own vertices did not move
+
+
 def test_convex_polyhedron_equals_yade():
     ref = reference("ymport")["convex"]
     planes = [((0, 0, 0), (2, 0, 0)), ((1, 0, 0), (-1, 0, 0)), ((0, 0, 0), (0, 1, 0)), ((0, 1, 0), (0, -1, 0)),

@@ -151,12 +151,15 @@ class Surface:
         self._version += 1
 
     def copy(self, s):
-        """Make this surface a deep copy of ``s`` (new vertices, edges and faces); returns it."""
+        """Add copies of the faces of ``s`` (new vertices, edges and faces) to this surface, as GTS's
+        ``gts_surface_copy`` does (a deep copy when this surface is empty); returns it."""
         xyz, tri = s.arrays()
-        self._set_arrays(xyz, tri)
+        self._set_arrays(xyz, tri, keep=True)
         return self
 
-    def _set_arrays(self, xyz, tri):
+    def _set_arrays(self, xyz, tri, keep=False):
+        """Faces made of new vertices ``xyz`` (V, 3) and triangles ``tri`` (F, 3): they replace the surface's
+        faces, or with ``keep`` are added to them."""
         verts = [Vertex(*p) for p in xyz]
         edges = {}
 
@@ -166,7 +169,8 @@ class Surface:
                 edges[key] = Edge(verts[i], verts[j])
             return edges[key]
 
-        self._faces = {}
+        if not keep:
+            self._faces = {}
         for a, b, c in tri:
             f = Face(edge(a, b), edge(b, c), edge(c, a))
             self._faces[id(f)] = f

@@ -92,4 +92,21 @@ probe = [((0.5, 0.5, 0.5), 0.1), ((0.2, 0.2, 0.2), 0.1), ((0.5, 0.5, 0.5), 0.2),
          ((0.9, 0.1, 0.1), 0.05), ((1.1, 0.5, 0.5), 0)]
 out['convex'] = dict(aabb=p.aabb(), probes=[[pt, pad, p(pt, pad)] for pt, pad in probe])
 out['convex_unbounded'] = catch(lambda: pack.inConvexPolyhedron([((0, 0, 0), (1, 0, 0))]))
+# rotating-cylinder.py's surface: a swept cylinder, then copy() adds a square's faces to it
+import numpy
+thetas = numpy.linspace(0, 2 * pi, 24, endpoint=True)
+base = [Vector3(cos(th), sin(th), -1) for th in thetas]
+cyl = pack.sweptPolylines2gtsSurface([base, [p + Vector3(0, 0, 2) for p in base]])
+vv = [gts.Vertex(1, 1, 0), gts.Vertex(-1, 1, 0), gts.Vertex(-1, -1, 0), gts.Vertex(1, -1, 0)]
+ee = [gts.Edge(vv[0], vv[1]), gts.Edge(vv[1], vv[2]), gts.Edge(vv[2], vv[3]), gts.Edge(vv[3], vv[0]), gts.Edge(vv[0], vv[2])]
+sq = gts.Surface()
+sq.add(gts.Face(ee[0], ee[1], ee[4]))
+sq.add(gts.Face(ee[2], ee[3], ee[4]))
+sq.translate(0, 0, -1)
+cyl.copy(sq)
+cyl.scale(.2, .2, .5)
+cyl.rotate(1, 0, 0, -pi / 4)
+fs = pack.gtsSurface2Facets(cyl)
+out['rotating_cylinder'] = dict(Nfaces=cyl.Nfaces, Nvertices=cyl.Nvertices, area=cyl.area(), facets=len(fs),
+                                vertex_sum=sum((b.state.pos + v for b in fs for v in b.shape.vertices), Vector3.Zero))
 dump('ymport', out)
