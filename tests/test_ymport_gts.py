@@ -277,8 +277,10 @@ def test_text_formats_equal_yade(yade):
 
     assert spheres(ymport.text(str(DATA / "sph.txt"), shift=Vector3(1, 0, 0), scale=2)) == ref["text"]
     assert spheres(ymport.textExt(str(DATA / "sphm.txt"), format="x_y_z_r_matId")) == ref["textExt_matId"]
-    with pytest.raises(ValueError, match="bogus"):
+    with pytest.raises(RuntimeError, match="bogus") as e:
         ymport.textExt(str(DATA / "sph.txt"), format="bogus")
+    bogus = ref["textExt_bogus"]
+    assert bogus["exception"] == "RuntimeError" and str(e.value).startswith(bogus["message"])
     np.testing.assert_allclose(global_vertices(ymport.textFacets(str(DATA / "facets.txt"), shift=Vector3(0, 0, 1))),
                                ref["textFacets"], atol=1e-15)
     got = ymport.textFacets(str(DATA / "facetsm.txt"), format="x1_y1_z1_x2_y2_z2_x3_y3_z3_matId")
@@ -290,6 +292,25 @@ def test_text_formats_equal_yade(yade):
     b = yade.O.bodies
     np.testing.assert_allclose([list(x.state.pos) for x in b], r["pos"], rtol=1e-14, atol=1e-15)
     assert [x.isClump for x in b] == r["isClump"]
+
+
+def test_export_text_read_back(yade, tmp_path):
+    """Spheres saved by export.textExt come back from ymport.textExt: centres, radii, materials, attributes."""
+    from granum.yade import export
+
+    m0 = yade.O.materials.append(yade.FrictMat(label="m0"))
+    yade.O.materials.append(yade.FrictMat(label="m1"))
+    yade.O.bodies.append([yade.sphere((0.1 * i, 0.2, 1.0 / 3), 0.05 + 0.01 * i, material=m0 + i % 2) for i in range(5)])
+    for b in yade.O.bodies:
+        b.state.vel = (b.id, 2.0, 0.5)
+    export.textExt(str(tmp_path / "m.txt"), format="x_y_z_r_matId")
+    export.textExt(str(tmp_path / "a.txt"), format="x_y_z_r_attrs", attrs=["b.state.vel"])
+    got = ymport.textExt(str(tmp_path / "m.txt"), format="x_y_z_r_matId")
+    assert [(tuple(b.state.pos), b.shape.radius, b.material.label) for b in got] == \
+        [(tuple(b.state.pos), b.shape.radius, b.material.label) for b in yade.O.bodies]
+    attrs = []
+    got = ymport.textExt(str(tmp_path / "a.txt"), format="x_y_z_r_attrs", attrs=attrs)
+    assert len(got) == 5 and attrs == [[float(i), 2.0, 0.5] for i in range(5)]
 
 
 def test_ymport_gts_reads_a_small_file(yade, tmp_path):
@@ -379,7 +400,7 @@ def test_missing_file_and_bad_arguments(yade, tmp_path):
         ymport.stl(str(DATA / "tet.stl"), noBound=True)
     with pytest.raises(TypeError, match="gts.Surface"):
         pack.inGtsSurface([1, 2, 3])
-    with pytest.raises(ValueError, match="unknown format"):
+    with pytest.raises(RuntimeError, match="unknown format 'xyz'"):
         ymport.textFacets(str(DATA / "facets.txt"), format="xyz")
 
 

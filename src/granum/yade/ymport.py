@@ -93,7 +93,9 @@ def textExt(fileName, format="x_y_z_r", shift=_ORIGIN, scale=1.0, attrs=None, **
     Centres become ``scale * x + shift``, radii ``scale * r``; ``**kw`` goes to ``utils.sphere``."""
     formats = {"x_y_z_r": 4, "x_y_z_r_matId": 5, "x_y_z_r_attrs": 4}
     if format not in formats:
-        raise ValueError(f"ymport.textExt: unknown format {format!r} (one of {', '.join(formats)})")
+        # RuntimeError, as YADE's (and export.textExt's)
+        raise RuntimeError(f"Please, specify a correct format output! ymport.textExt: unknown format {format!r} "
+                           f"(one of {', '.join(formats)})")
     a = meshfiles.read_table(fileName, formats[format])
     if format != "x_y_z_r_attrs" and a.shape[1] != formats[format]:
         raise meshfiles.MeshFileError(fileName, "line 1", f"format {format!r} has {formats[format]} columns, "
@@ -121,7 +123,8 @@ def textFacets(fileName, format="x1_y1_z1_x2_y2_z2_x3_y3_z3", shift=_ORIGIN, sca
     base = "x1_y1_z1_x2_y2_z2_x3_y3_z3"
     formats = {base: (0, 9), base + "_matId": (0, 10), "id_" + base + "_matId": (1, 11), base + "_attrs": (0, 9)}
     if format not in formats:
-        raise ValueError(f"ymport.textFacets: unknown format {format!r} (one of {', '.join(formats)})")
+        raise RuntimeError(f"Please, specify a correct format output! ymport.textFacets: unknown format {format!r} "
+                           f"(one of {', '.join(formats)})")
     first, width = formats[format]
     a = meshfiles.read_table(fileName, width)
     if not format.endswith("_attrs") and a.shape[1] != width:
