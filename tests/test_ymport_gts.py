@@ -340,6 +340,11 @@ def test_stl_written_and_read_back(yade, tmp_path):
 # ----------------------------------------------------------------------------- bad input
 STL = (DATA / "tet.stl").read_text()
 GTS = "4 6 4\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 2\n2 3\n3 1\n1 4\n2 4\n3 4\n1 5 4\n2 6 5\n3 4 6\n3 2 1\n"
+UNV = ("    -1\n  2411\n"
+       + "".join(f"{i:10d}         0         0        11\n   {x:.16E}   {y:.16E}   0.0000000000000000E+00\n"
+                 for i, x, y in ((1, 0.0, 0.0), (2, 1.0, 0.0), (3, 0.0, 1.0)))
+       + "    -1\n    -1\n  2412\n         1        41         2         1         7         3\n"
+       + "         1         2         3\n    -1\n")
 MESH = ("MeshVersionFormatted 2\nDimension\n3\nVertices\n3\n0 0 0 1\n1 0 0 1\n0 1 0 1\nTriangles\n1\n1 2 3 1\nEnd\n")
 
 
@@ -373,6 +378,12 @@ BAD = {
                     r"x\.mesh: line 7: vertice 2: '1 O 0 1' is not numbers"),
     "mesh_degenerate": ("x.mesh", lambda tp: MESH.replace("0 1 0 1", "2 0 0 1"), ymport.gmsh,
                         r"x\.mesh: triangle 1: degenerate"),
+    "unv_truncated": ("x.unv", lambda tp: UNV[:-11], ymport.unv, r"x\.unv: line 10: dataset 2412 is not closed"),
+    "unv_number": ("x.unv", lambda tp: UNV.replace("1.0000000000000000E+00", "1.O", 1), ymport.unv,
+                   r"x\.unv: line 6: .* does not fit dataset 2411"),
+    "unv_degenerate": ("x.unv", lambda tp: UNV.replace("0.0000000000000000E+00   1.0000000000000000E+00",
+                                                       "2.0000000000000000E+00   0.0000000000000000E+00"),
+                       ymport.unv, r"x\.unv: element 1: degenerate"),
     "text_row": ("x.txt", lambda tp: "0 0 0 1\n0 0 0.5\n", ymport.text,
                  r"x\.txt: line 2: expected 4 numbers like the first row, found 3"),
     "facets_degenerate": ("x.txt", lambda tp: "0 0 0 1 0 0 2 0 0\n", ymport.textFacets, r"x\.txt: row 1: degenerate"),
@@ -391,6 +402,13 @@ def test_bad_file_names_the_file_and_place_and_adds_nothing(yade, tmp_path, case
     with pytest.raises(MeshFileError, match=message):
         fn(str(path))
     assert len(yade.O.bodies) == 1
+
+
+def test_small_unv_file(yade, tmp_path):
+    (tmp_path / "t.unv").write_text(UNV)
+    f, nodes, elements = ymport.unv(str(tmp_path / "t.unv"), shift=(0, 0, 1), returnConnectivityTable=True)
+    assert global_vertices(f) == [[[0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [0.0, 1.0, 1.0]]]
+    assert (nodes, elements) == ([(0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0)], [(0, 1, 2)])
 
 
 def test_missing_file_and_bad_arguments(yade, tmp_path):

@@ -340,12 +340,48 @@ def read_medit(path):
 UNV_TRIANGLES = (41, 51, 61, 74, 81, 91)
 
 
+def _unv_problem(path) -> str | None:
+    """The first line of a universal file that breaks its layout: a dataset (between two ``-1`` lines) left open,
+    a node record that is not 4 integers then 3 numbers, an element dataset line that is not integers."""
+    begun, kind, rows = None, None, 0
+    with open(path, errors="replace") as f:
+        for lineno, line in enumerate(f, 1):
+            words = line.split()
+            if words == ["-1"]:
+                begun, kind, rows = (lineno, None, 0) if begun is None else (None, None, 0)
+                continue
+            if begun is None or not words:
+                continue
+            if kind is None:
+                kind = words[0]
+                continue
+            rows += 1
+            try:
+                if kind == "2411" and rows % 2 == 1:
+                    ok = len(words) == 4 and all(int(w) is not None for w in words)
+                elif kind == "2411":
+                    ok = len(words) == 3 and all(float(w.replace("D", "E")) is not None for w in words)
+                elif kind == "2412":
+                    ok = all(int(w) is not None for w in words)
+                else:
+                    ok = True
+            except ValueError:
+                ok = False
+            if not ok:
+                return f"line {lineno}: {line.strip()[:60]!r} does not fit dataset {kind} (begun at line {begun})"
+    return None if begun is None else f"line {begun}: dataset {kind} is not closed by a '-1' line (truncated?)"
+
+
 def read_unv(path):
     """Nodes (V, 3) and triangles (F, 3) (0-based rows of the node array) of an I-DEAS universal file:
     datasets 2411 (nodes) and 2412 (elements), of which the 3-node triangles are kept, in file order."""
     path = os.fspath(path)
     _open_check(path)
     pyuff = library("pyuff", "reading .unv files")
+    problem = _unv_problem(path)
+    if problem is not None:
+        where, _, what = problem.partition(": ")
+        raise MeshFileError(path, where, what)
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
