@@ -357,6 +357,8 @@ BAD = {
     "stl_number": ("x.stl", lambda tp: STL.replace("vertex 0 1 0", "vertex 0 abc 0", 1), ymport.stl,
                    r"x\.stl: line 5: 'abc' is not a number"),
     "stl_truncated": ("x.stl", lambda tp: STL[: len(STL) // 2], ymport.stl, r"x\.stl: line 1[0-9]: "),
+    "stl_cut_after_a_facet": ("x.stl", lambda tp: STL[: STL.index("endfacet") + 9], ymport.stl,
+                              r"x\.stl: line 8: the file ends before 'endsolid'"),
     "stl_missing_vertex": ("x.stl", lambda tp: STL.replace("  vertex 0 0 1\n", "", 1), ymport.stl,
                            r"x\.stl: line \d+: expected 'vertex'"),
     "stl_degenerate": ("x.stl", lambda tp: STL.replace("vertex 0 0 1", "vertex 2 0 0", 1), ymport.stl,

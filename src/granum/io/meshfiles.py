@@ -162,8 +162,11 @@ def read_stl(path) -> np.ndarray:
         problem, cause = (_stl_ascii_problem(path) or f"not a valid STL file ({e})"), e
     else:
         if not _stl_is_binary(path, size):
-            problem = _stl_ascii_problem(path)
-            cause = None
+            # a file cut after a whole facet reads without error: the keyword counts tell
+            with open(path, "rb") as f:
+                text = f.read().lower()
+            if text.count(b"endfacet") != len(tri) or b"endsolid" not in text:
+                problem, cause = _stl_ascii_problem(path) or "the facets do not match 'endfacet' lines", None
     if problem is not None:
         where, _, what = problem.partition(": ") if problem.startswith("line ") else ("", "", problem)
         raise MeshFileError(path, where, what) from cause
@@ -340,6 +343,14 @@ def read_medit(path):
 UNV_TRIANGLES = (41, 51, 61, 74, 81, 91)
 
 
+def _parses(words, kind, count) -> bool:
+    """Whether ``words`` are ``count`` values of type ``kind``."""
+    try:
+        return len(words) == count and all(kind(w) is not None for w in words)
+    except ValueError:
+        return False
+
+
 def _unv_problem(path) -> str | None:
     """The first line of a universal file that breaks its layout: a dataset (between two ``-1`` lines) left open,
     a node record that is not 4 integers then 3 numbers, an element dataset line that is not integers."""
@@ -356,17 +367,11 @@ def _unv_problem(path) -> str | None:
                 kind = words[0]
                 continue
             rows += 1
-            try:
-                if kind == "2411" and rows % 2 == 1:
-                    ok = len(words) == 4 and all(int(w) is not None for w in words)
-                elif kind == "2411":
-                    ok = len(words) == 3 and all(float(w.replace("D", "E")) is not None for w in words)
-                elif kind == "2412":
-                    ok = all(int(w) is not None for w in words)
-                else:
-                    ok = True
-            except ValueError:
-                ok = False
+            if kind == "2411":  # node records: label, 3 system numbers / x y z (Fortran D exponents allowed)
+                ok = _parses(words, int, 4) if rows % 2 == 1 else _parses([w.replace("D", "E") for w in words],
+                                                                          float, 3)
+            else:
+                ok = kind != "2412" or _parses(words, int, len(words))
             if not ok:
                 return f"line {lineno}: {line.strip()[:60]!r} does not fit dataset {kind} (begun at line {begun})"
     return None if begun is None else f"line {begun}: dataset {kind} is not closed by a '-1' line (truncated?)"
