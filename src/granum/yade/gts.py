@@ -33,7 +33,7 @@ _moves = [0]
 class Vertex:
     """A point ``(x, y, z)`` [m]."""
 
-    __slots__ = ("_x", "_y", "_z", "__weakref__")
+    __slots__ = ("_x", "_y", "_z")
 
     def __init__(self, x=0.0, y=0.0, z=0.0):
         self._x, self._y, self._z = float(x), float(y), float(z)
@@ -280,8 +280,11 @@ class Surface:
 
     # -- transformations (in place, on the vertex objects)
     def _transform(self, fn):
-        for v in self.vertices():
-            v._x, v._y, v._z = (float(c) for c in fn(np.array(v.coords())))
+        """Move every vertex: ``fn`` maps the coordinates (V, 3) to new ones."""
+        verts = self.vertices()
+        new = fn(np.array([v.coords() for v in verts], dtype=np.float64).reshape(-1, 3)).tolist()
+        for v, (x, y, z) in zip(verts, new, strict=True):
+            v._x, v._y, v._z = x, y, z
         _moves[0] += 1
 
     def translate(self, dx=0.0, dy=0.0, dz=0.0):
@@ -290,7 +293,7 @@ class Surface:
         self._transform(lambda p: p + d)
 
     def scale(self, dx=1.0, dy=1.0, dz=1.0):
-        """Multiply the coordinates by ``(dx, dy, dz)`` (about the origin)."""
+        """Multiply the coordinates by ``(dx, dy, dz)`` (about the origin; PyGTS's defaults scale x only)."""
         d = np.array([dx, dy, dz], dtype=np.float64)
         self._transform(lambda p: p * d)
 
@@ -303,7 +306,7 @@ class Surface:
         k = axis / n
         K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
         R = np.eye(3) + math.sin(a) * K + (1 - math.cos(a)) * K @ K  # Rodrigues' formula
-        self._transform(lambda p: R @ p)
+        self._transform(lambda p: p @ R.T)
 
     def cleanup(self, threshold=0.0):
         """Merge vertices closer than ``threshold`` [m], then drop faces left without three distinct vertices
