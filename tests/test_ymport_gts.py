@@ -210,6 +210,15 @@ def test_copy_adds_faces_as_gts_does():
     assert vv[0].coords() == (1.0, 1.0, -1.0)  # the copy is deep: sq's own vertices did not move
 
 
+def test_single_polyline_caps():
+    """clump-viscoelastic.py makes a plane as the caps of one polyline: YADE gives two faces, whatever the caps."""
+    pts = [[Vector3(-.5, 0, 0), Vector3(.5, 0, 0), Vector3(.5, 0, -.5), Vector3(-.5, 0, -.5)]]
+    for caps in ((True, True), (True, False), (False, True)):
+        s = pack.sweptPolylines2gtsSurface(pts, capStart=caps[0], capEnd=caps[1])
+        assert (s.Nfaces, s.Nvertices, s.area()) == (2, 4, 0.5)
+    assert pack.sweptPolylines2gtsSurface(pts).Nfaces == 0
+
+
 def test_convex_polyhedron_equals_yade():
     ref = reference("ymport")["convex"]
     planes = [((0, 0, 0), (2, 0, 0)), ((1, 0, 0), (-1, 0, 0)), ((0, 0, 0), (0, 1, 0)), ((0, 1, 0), (0, -1, 0)),

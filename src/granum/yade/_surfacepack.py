@@ -8,7 +8,8 @@ surface (ValueError); ``inConvexPolyhedron(planes)`` takes ``(point, normal)`` p
 pointing inside and keeps points strictly more than ``pad`` inside every plane (normals normalised);
 a revolution meridian point ``(x, y)`` at angle a is ``origin + orientation * (x cos a, x sin a, y)``;
 a swept quad between polylines A and B, points j and j+1, is the triangles (A_j, A_j+1, B_j+1) and
-(A_j, B_j+1, B_j).
+(A_j, B_j+1, B_j); a cap is a fan from the polyline's first point, and both caps of a single polyline are one
+set of faces (the start cap's).
 """
 
 from __future__ import annotations
@@ -105,13 +106,13 @@ def gtsSurface2Facets(surf, **kw):
 
 def sweptPolylines2gtsSurface(pts, threshold=0, capStart=False, capEnd=False):
     """The surface swept between same-length polylines ``pts`` (a list of lists of 3-vectors): each quad between
-    polylines i, i+1 and points j, j+1 gives two triangles. With ``threshold`` > 0 triangles with an edge shorter
-    than it are left out and vertices closer than it merged (``Surface.cleanup``), which closes polylines whose
-    last point is their first. ``capStart``/``capEnd`` close the first/last polyline by a fan of triangles from
-    its first point (fine for convex sections)."""
+    polylines i, i+1 and points j, j+1 gives two triangles (a single polyline gives only its caps). With
+    ``threshold`` > 0 triangles with an edge shorter than it are left out and vertices closer than it merged
+    (``Surface.cleanup``), which closes polylines whose last point is their first. ``capStart``/``capEnd`` close
+    the first/last polyline by a fan of triangles from its first point (fine for convex sections)."""
     lines = [[as_vec3(p) for p in line] for line in pts]
-    if len(lines) < 2 or len({len(line) for line in lines}) != 1 or len(lines[0]) < 2:
-        raise ValueError("sweptPolylines2gtsSurface: give at least two polylines of the same length (>= 2 points)")
+    if not lines or len({len(line) for line in lines}) != 1 or len(lines[0]) < 2:
+        raise ValueError("sweptPolylines2gtsSurface: give polylines of the same length (>= 2 points)")
     m = len(lines[0])
     xyz = np.array(lines, dtype=np.float64).reshape(-1, 3)
     idx = np.arange(len(xyz)).reshape(len(lines), m)
@@ -125,6 +126,9 @@ def sweptPolylines2gtsSurface(pts, threshold=0, capStart=False, capEnd=False):
     if capEnd:
         tri += [(idx[-1, 0], idx[-1, j], idx[-1, j + 1]) for j in range(1, m - 1)]
     tri = np.array(tri, dtype=np.int64).reshape(-1, 3)
+    # a face made twice (both caps of a single polyline) is kept once, as first made
+    _, first = np.unique(np.sort(tri, axis=1), axis=0, return_index=True)
+    tri = tri[np.sort(first)]
     if threshold > 0:
         t = xyz[tri]
         shortest = np.min([np.linalg.norm(t[:, k] - t[:, (k + 1) % 3], axis=1) for k in range(3)], axis=0)
