@@ -217,6 +217,13 @@ def test_single_polyline_caps():
         s = pack.sweptPolylines2gtsSurface(pts, capStart=caps[0], capEnd=caps[1])
         assert (s.Nfaces, s.Nvertices, s.area()) == (2, 4, 0.5)
     assert pack.sweptPolylines2gtsSurface(pts).Nfaces == 0
+    p = [tuple(x) for x in pts[0]]
+    # YADE's faces (vertex order as its facets give them): start cap (p1, p0, p2), (p2, p0, p3); end cap
+    # (p0, p1, p2), (p0, p2, p3)
+    for caps, faces in (((True, False), [(p[1], p[0], p[2]), (p[2], p[0], p[3])]),
+                        ((False, True), [(p[0], p[1], p[2]), (p[0], p[2], p[3])])):
+        tri = pack.sweptPolylines2gtsSurface(pts, capStart=caps[0], capEnd=caps[1]).triangles()
+        assert [tuple(map(tuple, t)) for t in tri] == faces
 
 
 def test_convex_polyhedron_equals_yade():

@@ -8,8 +8,8 @@ surface (ValueError); ``inConvexPolyhedron(planes)`` takes ``(point, normal)`` p
 pointing inside and keeps points strictly more than ``pad`` inside every plane (normals normalised);
 a revolution meridian point ``(x, y)`` at angle a is ``origin + orientation * (x cos a, x sin a, y)``;
 a swept quad between polylines A and B, points j and j+1, is the triangles (A_j, A_j+1, B_j+1) and
-(A_j, B_j+1, B_j); a cap is a fan from the polyline's first point, and both caps of a single polyline are one
-set of faces (the start cap's).
+(A_j, B_j+1, B_j); a cap is a fan from the polyline's first point p0, (p_j, p0, p_j+1) at the start and
+(p0, p_j, p_j+1) at the end, and both caps of a single polyline are one set of faces (the start cap's).
 """
 
 from __future__ import annotations
@@ -122,7 +122,7 @@ def sweptPolylines2gtsSurface(pts, threshold=0, capStart=False, capEnd=False):
             a, a1, b, b1 = idx[i, j], idx[i, j + 1], idx[i + 1, j], idx[i + 1, j + 1]
             tri += [(a, a1, b1), (a, b1, b)]
     if capStart:
-        tri += [(idx[0, 0], idx[0, j + 1], idx[0, j]) for j in range(1, m - 1)]
+        tri += [(idx[0, j], idx[0, 0], idx[0, j + 1]) for j in range(1, m - 1)]
     if capEnd:
         tri += [(idx[-1, 0], idx[-1, j], idx[-1, j + 1]) for j in range(1, m - 1)]
     tri = np.array(tri, dtype=np.int64).reshape(-1, 3)
