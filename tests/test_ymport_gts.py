@@ -160,6 +160,22 @@ def test_surface_objects_and_transformations():
     assert s.area() == 1.0
 
 
+def test_tessellate_is_a_geodesation_step():
+    """YADE 2023.02a: gts.cube() tessellated has 48 faces, 26 vertices, 72 edges, volume 4.828427124746188 and
+    area 19.07068619302529 (the new vertices lie on the unit sphere); a cube inscribed in the unit sphere tends to
+    the sphere."""
+    c = gts.cube()
+    c.tessellate()
+    assert (c.Nfaces, c.Nvertices, c.Nedges) == (48, 26, 72) and c.is_closed()
+    assert c.volume() == pytest.approx(4.828427124746188, rel=1e-14)
+    assert c.area() == pytest.approx(19.07068619302529, rel=1e-14)
+    s = gts.cube()
+    s.scale(*[1 / np.sqrt(3)] * 3)
+    for _ in range(4):
+        s.tessellate()
+    assert s.Nfaces == 12 * 4 ** 4 and s.volume() == pytest.approx(4 / 3 * np.pi, rel=1e-2)
+
+
 def test_gts_file_written_and_read_back(tmp_path):
     c = gts.cube()
     c.translate(0.5, 0, 0)

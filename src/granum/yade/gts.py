@@ -321,6 +321,21 @@ class Surface:
         used, tri = np.unique(tri, return_inverse=True)
         self._set_arrays(xyz[used], tri.reshape(-1, 3))
 
+    def tessellate(self):
+        """Split every face into 4 at new vertices on its edges (a shared edge gets one): GTS's mid-arc points,
+        the edge's midpoint pushed out to the unit sphere, ``(a + b) / |a + b|``, which makes a geodesation step
+        of a polyhedron inscribed in the unit sphere."""
+        xyz, tri = self.arrays()
+        edges = np.sort(np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]]), axis=1)
+        uniq, inverse = np.unique(edges, axis=0, return_inverse=True)
+        mid = len(xyz) + inverse.reshape(3, -1).T  # (F, 3): the midpoints of edges ab, bc, ca
+        a, b, c = tri.T
+        ab, bc, ca = mid.T
+        new = np.stack([np.stack(t, 1) for t in ((a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca))], 1)
+        arc = xyz[uniq[:, 0]] + xyz[uniq[:, 1]]
+        arc /= np.linalg.norm(arc, axis=1, keepdims=True)
+        self._set_arrays(np.concatenate([xyz, arc]), new.reshape(-1, 3))
+
     # -- boolean operations
     def _manifold(self):
         m3d = meshfiles.library("manifold3d", "boolean operations on gts surfaces")
