@@ -38,7 +38,10 @@ class inGtsSurface(Predicate):
         if not isinstance(surf, gts.Surface):
             raise TypeError(f"inGtsSurface needs a gts.Surface, not {type(surf).__name__}")
         if not surf.is_closed():
-            raise ValueError("Surface is not closed.")
+            _, use = surf._edge_use() if surf.Nfaces else (None, np.zeros(0, int))
+            raise ValueError(f"Surface is not closed. (inGtsSurface needs a closed surface: of its {len(use)} edges, "
+                             f"{int(np.sum(use == 1))} belong to one face only and {int(np.sum(use > 2))} to more "
+                             f"than two)")
         self.surf, self.noPad = surf, bool(noPad)
         self._grid = _surface.SurfaceGrid(surf.triangles())
 
