@@ -46,7 +46,7 @@ class inGtsSurface(Predicate):
         self._grid = _surface.SurfaceGrid(surf.triangles())
 
     def _inside(self, pts, pad):
-        return _surface.inside_surface(self._grid, pts, 0.0 if self.noPad else float(pad))
+        return self._grid.inside(pts, 0.0 if self.noPad else float(pad))
 
     def _box(self):
         return self._grid.lo.copy(), self._grid.hi.copy()
