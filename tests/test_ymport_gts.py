@@ -457,6 +457,17 @@ def test_missing_file_and_bad_arguments(yade, tmp_path):
         ymport.textFacets(str(DATA / "facets.txt"), format="xyz")
 
 
+def test_a_missing_optional_package_says_how_to_install_it(yade, monkeypatch):
+    import sys
+
+    monkeypatch.setitem(sys.modules, "meshio", None)  # "import meshio" now raises ImportError
+    with pytest.raises(ImportError, match=r"reading STL files needs the package 'meshio'.*pip install granum\[mesh\]"):
+        ymport.stl(str(DATA / "tet.stl"))
+    monkeypatch.setitem(sys.modules, "manifold3d", None)
+    with pytest.raises(ImportError, match=r"boolean operations on gts surfaces needs the package 'manifold3d'"):
+        gts.cube().union(gts.cube())
+
+
 def test_predicate_padding_is_yades_six_point_test():
     """On a cube the padded test is exact; on a tetrahedron it tests the axes only (YADE's, measured)."""
     p = pack.inGtsSurface(gts.cube())
