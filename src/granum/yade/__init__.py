@@ -25,14 +25,28 @@ from future import standard_library as _standard_library
 from granum import idem
 from granum.engines.base import Engine, GlobalEngine, PartialEngine, PeriodicEngine
 from granum.engines.controllers import PeriTriaxController
+from granum.engines.fields import (
+    AxialGravityEngine,
+    CentralConstantAccelerationEngine,
+    DragEngine,
+    ForceEngine,
+    InterpolatingDirectedForceEngine,
+    LinearDragEngine,
+    StepDisplacer,
+    TorqueEngine,
+)
 from granum.engines.functors import CLASSES as _FUNCTORS
 from granum.engines.functors import BoundFunctor, Functor, IGeomFunctor, IPhysFunctor, LawFunctor
 from granum.engines.kinematic import (
+    BicyclePedalEngine,
     CombinedKinematicEngine,
-    ForceEngine,
+    HarmonicMotionEngine,
+    HarmonicRotationEngine,
     HelixEngine,
+    InterpolatingHelixEngine,
     KinematicEngine,
     RotationEngine,
+    ServoPIDController,
     TranslationEngine,
 )
 from granum.engines.parallel import ParallelEngine
@@ -124,7 +138,12 @@ _namespace.update(
     TriaxialStateRecorder=TriaxialStateRecorder,
     ForceEngine=ForceEngine, TranslationEngine=TranslationEngine, RotationEngine=RotationEngine,
     KinematicEngine=KinematicEngine, HelixEngine=HelixEngine, CombinedKinematicEngine=CombinedKinematicEngine,
-    ParallelEngine=ParallelEngine,
+    ParallelEngine=ParallelEngine, HarmonicMotionEngine=HarmonicMotionEngine,
+    HarmonicRotationEngine=HarmonicRotationEngine, InterpolatingHelixEngine=InterpolatingHelixEngine,
+    BicyclePedalEngine=BicyclePedalEngine, ServoPIDController=ServoPIDController, TorqueEngine=TorqueEngine,
+    InterpolatingDirectedForceEngine=InterpolatingDirectedForceEngine, StepDisplacer=StepDisplacer,
+    DragEngine=DragEngine, LinearDragEngine=LinearDragEngine, AxialGravityEngine=AxialGravityEngine,
+    CentralConstantAccelerationEngine=CentralConstantAccelerationEngine,
     SimulationError=SimulationError, Body=Body, State=State, Shape=Shape, Aabb=Aabb, Cell=Cell,
     Interaction=Interaction, Vector2=Vector2, Vector2i=Vector2i, Vector3=Vector3,
     Vector3i=Vector3i, Vector6=Vector6, Matrix3=Matrix3, Quaternion=Quaternion,
