@@ -17,12 +17,12 @@ import types
 
 
 class _YadeAlias(importlib.abc.MetaPathFinder, importlib.abc.Loader):
-    """Resolve ``yade`` and ``yade.*`` to ``granum.yade`` (installed by the launcher only), and the
-    top-level ``bf`` to ``granum.yade.bf``: YADE's launcher puts its package folder on ``sys.path``,
-    and its breakage examples ``from bf import ...``."""
+    """Resolve ``yade`` and ``yade.*`` to ``granum.yade``, ``gts`` (PyGTS, which YADE scripts import) to
+    ``granum.yade.gts`` and the top-level ``bf`` to ``granum.yade.bf`` (installed by the launcher only): YADE's
+    launcher puts its package folder on ``sys.path``, and its breakage examples ``from bf import ...``."""
 
     #: top-level names of yade submodules that YADE's scripts import without ``yade.``
-    TOP_LEVEL = ("bf",)
+    TOP_LEVEL = ("bf", "gts")
 
     def find_spec(self, fullname, path=None, target=None):
         top = fullname.split(".")[0]

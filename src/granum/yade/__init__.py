@@ -75,6 +75,7 @@ from granum.yade import (  # noqa: F401 - the yade.X modules (_laws: the law cla
     config,
     export,
     geom,
+    gts,
     libVersions,
     linterpolation,
     log,
@@ -150,6 +151,7 @@ _namespace.update(
     Vector3i=Vector3i, Vector6=Vector6, Matrix3=Matrix3, Quaternion=Quaternion,
     readParamsFromTable=readParamsFromTable, waitIfBatch=waitIfBatch, runningInBatch=runningInBatch,
     utils=utils, geom=geom, pack=pack, plot=plot, qt=qt, timing=timing, ymport=ymport, export=export,
+    gts=gts,  # PyGTS: YADE's scripts find it without importing
 )
 #: YADE's command-line options as its launcher parses them (``opts.threads``...); granum's launcher fills in
 #: ``threads``, ``script`` and ``args``

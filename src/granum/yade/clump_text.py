@@ -1,11 +1,9 @@
-"""Clumps as text: ``export.textClumps`` and ``ymport.textClumps`` (YADE's ``x_y_z_r_clumpId`` format).
+"""Clumps as text: ``export.textClumps`` (YADE's ``x_y_z_r_clumpId`` format; ``ymport.textClumps`` reads it).
 
 The file, as YADE 2023.02a writes it: a line ``#format x_y_z_r_clumpId``, the comment (if any) after
 ``# ``, then one tab-separated line per spherical member, ``x y z r clumpId``, clumps by increasing id and
 members by increasing id, numbers printed with C's ``%g`` (six significant digits: YADE's format, so the
-positions read back are rounded). Reading groups the lines by their last column in order of first
-appearance and appends each group with ``O.bodies.appendClumped``, each sphere placed at
-``orientation * (scale * x) + shift`` with radius ``scale * r``; lines starting with ``#`` are skipped.
+positions read back are rounded).
 """
 
 from __future__ import annotations
@@ -14,10 +12,9 @@ import numpy as np
 
 from granum.core.shapes import ShapeKind
 from granum.io.atomic import write_text
-from granum.mathtypes import Quaternion, Vector3, as_quat_wxyz, as_vec3
-from granum.yade.clumps import clump_members, rotation
+from granum.yade.clumps import clump_members
 
-__all__ = ["read", "write"]
+__all__ = ["write"]
 
 FORMAT = "x_y_z_r_clumpId"
 
@@ -47,32 +44,3 @@ def write(filename, format=FORMAT, comment="", mask=-1):  # noqa: A002 (YADE's a
         spheres += len(rows)
     write_text(filename, "\n".join(lines) + "\n")
     return clumps, spheres
-
-
-def read(fileName, shift=Vector3(0, 0, 0), discretization=0, orientation=Quaternion(1, 0, 0, 0),  # noqa: B008, N803
-         scale=1.0, **kw):
-    """``ymport.textClumps``: append the clumps of a ``x_y_z_r_clumpId`` file; return
-    ``[(clumpId, [memberIds]), ...]``. ``kw`` goes to ``utils.sphere``."""
-    from granum.yade import utils  # lazy: utils imports the scene code
-    from granum.yade.omega import O
-
-    groups: dict[str, list] = {}
-    with open(fileName) as f:
-        for k, line in enumerate(f, 1):
-            if not line.strip() or line.lstrip().startswith("#"):
-                continue
-            cols = line.split()
-            if len(cols) != 5:
-                raise ValueError(f"ymport.textClumps: {fileName}:{k}: expected 5 columns x y z r clumpId, got "
-                                 f"{len(cols)}")
-            try:
-                values = [float(v) for v in cols[:4]]
-            except ValueError:
-                raise ValueError(f"ymport.textClumps: {fileName}:{k}: not a number in {line.strip()!r}") from None
-            groups.setdefault(cols[4], []).append(values)
-    R = rotation(as_quat_wxyz(orientation))
-    t = as_vec3(shift)
-    s = float(scale)
-    spheres = [[utils.sphere(Vector3(*(R @ (s * np.array(v[:3])) + t)), s * v[3], **kw) for v in rows]
-               for rows in groups.values()]
-    return [O.bodies.appendClumped(group, discretization) for group in spheres]

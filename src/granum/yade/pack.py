@@ -760,3 +760,16 @@ class SpherePack:
         self._cell, self.isPeriodic = np.zeros(3), False
         if O.periodic:
             self.cellSize = np.diag(np.asarray(O.cell.hSize)).copy()
+
+
+# the surface predicates and builders (their module imports Predicate from this one)
+from granum.yade._surfacepack import (  # noqa: E402
+    gtsSurface2Facets,
+    inConvexPolyhedron,
+    inGtsSurface,
+    revolutionSurfaceMeridians,
+    sweptPolylines2gtsSurface,
+)
+
+__all__ += ["gtsSurface2Facets", "inConvexPolyhedron", "inGtsSurface", "revolutionSurfaceMeridians",
+            "sweptPolylines2gtsSurface"]
