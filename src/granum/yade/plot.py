@@ -532,6 +532,10 @@ def plot(noShow=False, subPlots=True):
         warnings.warn(f'plot: {why}', stacklevel=2)
     if noShow:
         return figs[0] if len(figs) == 1 else figs
+    from granum.yade import view
+
+    if view.current() is not None:   # the browser view's page shows them, updated while `live`
+        view.current().show_plots()
     if headless:
         _save_headless(plt, figs, subPlots, 'no display, figure saved to')
         return None
