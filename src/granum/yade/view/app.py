@@ -66,6 +66,27 @@ def frame_state(frame: frames.Frame) -> dict:
     }
 
 
+def click_ray(position: dict, camera: dict, size) -> tuple[np.ndarray, np.ndarray]:
+    """The ray (origin, direction) through the pixel ``position`` ({x, y} from the lower left corner) of a
+    view of ``size`` (width, height) [px] seen by the vtk.js ``camera`` (position, focalPoint, viewUp,
+    viewAngle [deg] vertical, parallelProjection, parallelScale)."""
+    eye = np.asarray(camera["position"], float)
+    forward = np.asarray(camera["focalPoint"], float) - eye
+    forward /= np.linalg.norm(forward)
+    up = np.asarray(camera["viewUp"], float)
+    up = up - forward * (up @ forward)
+    up /= np.linalg.norm(up)
+    right = np.cross(forward, up)
+    w, h = float(size[0]), float(size[1])
+    u = (2.0 * position["x"] / w - 1.0) * w / h   # horizontal offset, in units of half the view's height
+    v = 2.0 * position["y"] / h - 1.0
+    if camera.get("parallelProjection"):
+        s = float(camera["parallelScale"])
+        return eye + s * (u * right + v * up), forward
+    t = np.tan(np.radians(float(camera["viewAngle"])) / 2)
+    return eye, forward + t * (u * right + v * up)
+
+
 def token_middleware(token: str):
     """aiohttp middleware refusing (403) every request without ``token`` in its query or cookie."""
     from aiohttp import web
@@ -122,14 +143,12 @@ def build_server(session: Session, token: str):
     ctrl.run_n = lambda n: command("run", n)
     ctrl.set_dt = lambda text: command("dt", text)
     ctrl.reset_camera = lambda: view.reset_camera()
+    ctrl.yade_camera = lambda: view.set_camera(session.camera())
+    ctrl.on_client_connected.add(lambda **_: session.loop.call_later(0.5, ctrl.yade_camera))
 
-    def on_click(event):
-        if not event:
-            return
-        pos = event.get("worldPosition")
-        if pos is None:
-            return
-        state.picked = session.pick_surface(pos)
+    def on_press(position, camera, size):
+        """A press of the left button on the view: the inspector shows the body under it."""
+        state.picked = session.pick(*click_ray(position, camera, size))
 
     @state.change("field")
     def field_changed(field, **_):
@@ -139,28 +158,30 @@ def build_server(session: Session, token: str):
              "font:13px sans-serif;padding:8px;box-sizing:border-box")
     with DivLayout(server, template_name="main"):
         with html.Div(style="position:absolute;left:0;top:0;bottom:0;right:330px"):
-            with vtkw.VtkView(ref="view", background=("bg", [0.2, 0.2, 0.2]), picking_modes=["click"],
-                              click=(on_click, "[$event]"), style="width:100%;height:100%") as view:
+            with vtkw.VtkView(ref="view", background=("bg", [0.2, 0.2, 0.2]), 
+                              interactor_events=("events", ["LeftButtonPress"]),
+                              LeftButtonPress=(on_press, "[$event.position, trame.refs.view.getCamera(), "
+                                                         "$event.pokedRenderer.getRenderWindow().getViews()[0].getSize()]"), style="width:100%;height:100%") as view:
                 with vtkw.VtkGlyphRepresentation(
                         mapper=("{scaleArray: 'radius', scaleMode: 1, scaleFactor: 1, scalarVisibility: true,"
-                                " colorMode: 0}",)):
-                    vtkw.VtkAlgorithm(vtk_class="vtkSphereSource",
+                                " colorMode: 2}",)):
+                    vtkw.VtkAlgorithm(vtk_class="vtkSphereSource", port=1,
                                       state=("{radius: 1, phiResolution: 16, thetaResolution: 16}",))
-                    with vtkw.VtkPolyData("spheres", port=1, points=("sph_points",), connectivity="points"):
+                    with vtkw.VtkPolyData("spheres", port=0, points=("sph_points",), connectivity="points"):
                         with vtkw.VtkPointData():
                             vtkw.VtkDataArray(registration="setScalars", name="rgb", type="Uint8Array",
-                                              number_of_components=3, values=("sph_rgb",))
+                                              number_of_components=("3",), values=("sph_rgb",))
                             vtkw.VtkDataArray(registration="addArray", name="radius", values=("sph_radius",))
-                with vtkw.VtkGeometryRepresentation(mapper=("{colorMode: 0}",)):
+                with vtkw.VtkGeometryRepresentation(mapper=("{colorMode: 2}",)):
                     with vtkw.VtkPolyData("triangles", points=("tri_points",), polys=("tri_polys",)):
                         with vtkw.VtkCellData():
                             vtkw.VtkDataArray(registration="setScalars", name="rgb", type="Uint8Array",
-                                              number_of_components=3, values=("tri_rgb",))
-                with vtkw.VtkGeometryRepresentation(mapper=("{colorMode: 0}",), property=("{lineWidth: 2}",)):
+                                              number_of_components=("3",), values=("tri_rgb",))
+                with vtkw.VtkGeometryRepresentation(mapper=("{colorMode: 2}",), property=("{lineWidth: 2}",)):
                     with vtkw.VtkPolyData("lines", points=("line_points",), lines=("line_cells",)):
                         with vtkw.VtkCellData():
                             vtkw.VtkDataArray(registration="setScalars", name="rgb", type="Uint8Array",
-                                              number_of_components=3, values=("line_rgb",))
+                                              number_of_components=("3",), values=("line_rgb",))
         with html.Div(style=style):
             html.Div("#{{ iter }}  t = {{ sim_time }} s  ({{ n_spheres }} spheres)", id="clock")
             with html.Div(style="margin:6px 0"):
@@ -178,7 +199,8 @@ def build_server(session: Session, token: str):
                 html.Span("Colour by ")
                 with html.Select(v_model=("field",), id="field"):
                     html.Option("{{ f }}", v_for="f in fields", value=("f",))
-                html.Button("Reset camera", click=ctrl.reset_camera)
+                html.Button("Fit", id="fit", click=ctrl.reset_camera)
+                html.Button("YADE camera", id="yade_camera", click=ctrl.yade_camera)
             html.Div(v_show="field != 'color'", id="colorbar",
                      style=("'height:12px;background:linear-gradient(to right,' + bar_stops.join(',') + ')'",))
             html.Div("{{ bar_lo }} .. {{ bar_hi }}", v_show="field != 'color'")
@@ -197,7 +219,10 @@ async def _pump(session: Session, server) -> None:
     state = server.state
     while not session.closing:
         await asyncio.sleep(session.interval)
-        update = session.poll()
+        try:
+            update = session.poll()
+        except Exception as e:  # noqa: BLE001 - shown in the page; the view goes on
+            update = {"message": f"view: {type(e).__name__}: {e}"}
         if update:
             with state:
                 state.update(update)

@@ -51,6 +51,7 @@ class Session:
         self._plot_time = 0.0
         self._worker = ThreadPoolExecutor(1, thread_name_prefix="granum-view-command")
         self.message = ""
+        self.picked_id = -1
 
     # ---- frames ------------------------------------------------------------------------------
     def options(self) -> frames.Options:
@@ -105,6 +106,23 @@ class Session:
         self._idle_key = key
         return self.frame()
 
+    def camera(self) -> dict:
+        """vtk.js camera of the first ``qt.View()`` (or a new one framing the scene): eye, look-at point, up
+        vector, YADE's 45 degree vertical field of view, so the page shows what ``saveSnapshot`` draws."""
+        from granum.yade import qt
+        from granum.yade.snapshot import View
+
+        v = qt._views[0] if qt._views else View(lambda: self.omega._scene)
+        if not v._fitted:
+            v.center(median=False)
+        eye = np.asarray(v.eyePosition, float)
+        d = np.asarray(v.viewDir, float) / np.linalg.norm(v.viewDir)
+        dist = max(float(np.linalg.norm(eye - v._center)), 1e-9)
+        return {"position": eye.tolist(), "focalPoint": (eye + d * dist).tolist(),
+                "viewUp": list(map(float, v.upVector)), "viewAngle": 45.0, "parallelProjection": bool(v.ortho),
+                "parallelScale": float(v.sceneRadius), "clippingRange": [v.near() if not v.ortho else 1e-6 * dist,
+                                                                         dist + 4 * v.sceneRadius]}
+
     # ---- what the page shows -----------------------------------------------------------------
     def panel_state(self) -> dict:
         O = self.omega
@@ -129,14 +147,12 @@ class Session:
         update.update(self._plot_update())
         return update
 
-    def pick_surface(self, point) -> str:
-        """Inspector text of the sphere whose surface is nearest to ``point`` (the 3D point under a click)."""
+    def pick(self, origin, direction) -> str:
+        """Inspector text of the sphere of the frame shown that the ray clicked hits first ("" if none)."""
         f = self._shown
-        if f is None or not len(f.sphere_ids):
-            return ""
-        p = np.asarray(point, float)
-        gap = np.abs(np.linalg.norm(f.sphere_pos - p, axis=1) - f.sphere_radius)
-        return self.describe(int(f.sphere_ids[int(np.argmin(gap))]))
+        i = frames.pick(f, origin, direction) if f is not None else -1
+        self.picked_id = i
+        return self.describe(i) if i >= 0 else ""
 
     def describe(self, i: int) -> str:
         """The inspector's text for body ``i``: id, position, velocity, shape, material, contacts."""
@@ -197,7 +213,10 @@ class Session:
 
         from granum.yade.view.app import png_of_figures
 
-        figs, _ = plot._make_figures(types.SimpleNamespace(figure=Figure), True)
+        try:
+            figs, _ = plot._make_figures(types.SimpleNamespace(figure=Figure), True)
+        except ValueError:   # the run's thread was adding a row meanwhile (columns of unequal length): next poll
+            return {}
         self._plot_key, self._plot_time = key, now
         return {"plot_png": png_of_figures(figs), "plot_rows": key[0]}
 
