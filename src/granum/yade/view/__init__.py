@@ -110,3 +110,16 @@ def open_view(open_browser: bool | None = None):
 
         webbrowser.open(session.url)
     return session
+
+
+def close_view() -> None:
+    """Stop serving the page (its port closes) and take the view's hook off ``O``."""
+    global _session
+    session, _session = _session, None
+    if session is None:
+        return
+    import asyncio
+
+    session.close()
+    if session.loop is not None and session.server is not None:
+        asyncio.run_coroutine_threadsafe(session.server.stop(), session.loop).result(10)
