@@ -158,10 +158,12 @@ def build_server(session: Session, token: str):
              "font:13px sans-serif;padding:8px;box-sizing:border-box")
     with DivLayout(server, template_name="main"):
         with html.Div(style="position:absolute;left:0;top:0;bottom:0;right:330px"):
-            with vtkw.VtkView(ref="view", background=("bg", [0.2, 0.2, 0.2]), 
+            # a press sends the pixel, the camera and the view's size: the server casts the ray (click_ray)
+            press = ("[$event.position, trame.refs.view.getCamera(), "
+                     "$event.pokedRenderer.getRenderWindow().getViews()[0].getSize()]")
+            with vtkw.VtkView(ref="view", background=("bg", [0.2, 0.2, 0.2]), style="width:100%;height:100%",
                               interactor_events=("events", ["LeftButtonPress"]),
-                              LeftButtonPress=(on_press, "[$event.position, trame.refs.view.getCamera(), "
-                                                         "$event.pokedRenderer.getRenderWindow().getViews()[0].getSize()]"), style="width:100%;height:100%") as view:
+                              LeftButtonPress=(on_press, press)) as view:
                 with vtkw.VtkGlyphRepresentation(
                         mapper=("{scaleArray: 'radius', scaleMode: 1, scaleFactor: 1, scalarVisibility: true,"
                                 " colorMode: 2}",)):

@@ -71,7 +71,7 @@ def colormap_rgb(values: np.ndarray, lo: float, hi: float) -> np.ndarray:
 
 def colormap_stops(n: int = 9) -> list[str]:
     """``n`` CSS colours along :data:`COLORMAP`, low to high (the page's colour bar)."""
-    return ["#%02x%02x%02x" % tuple(c) for c in colormap_rgb(np.linspace(0, 1, n), 0.0, 1.0)]
+    return ["#{:02x}{:02x}{:02x}".format(*c) for c in colormap_rgb(np.linspace(0, 1, n), 0.0, 1.0)]
 
 
 def body_values(scene, ids: np.ndarray, field: str) -> np.ndarray:
@@ -128,10 +128,11 @@ def _wall_quads(scene, ids: np.ndarray, extent: tuple[np.ndarray, np.ndarray]) -
     return quads
 
 
-def take_frame(scene, options: Options = Options(), field: str = "color") -> Frame:
+def take_frame(scene, options: Options | None = None, field: str = "color") -> Frame:
     """Copy what the view draws from ``scene`` now (see the module's docstring)."""
     if field not in FIELDS:
         raise ValueError(f"view: cannot colour by {field!r}; fields: {', '.join(FIELDS)}")
+    options = options or Options()
     b = scene.bodies
     n = scene.body_count
     scale = np.asarray(options.dispScale, float)
