@@ -22,6 +22,7 @@ import base64
 import hmac
 import io
 import threading
+import time
 
 import numpy as np
 
@@ -46,24 +47,33 @@ def _cells(count: int, per: int) -> np.ndarray:
     return np.concatenate([np.full((count, 1), per, np.uint32), idx], axis=1).ravel()
 
 
-def frame_state(frame: frames.Frame) -> dict:
-    """The shared-state entries of one frame (what the page's vtk.js components are bound to)."""
-    return {
+def frame_state(frame: frames.Frame, previous: frames.Frame | None = None) -> dict:
+    """The shared-state entries of one frame (what the page's vtk.js components are bound to); arrays equal
+    to those of the ``previous`` frame published are left out (radii and colours seldom change)."""
+    def same(name):
+        return previous is not None and np.array_equal(getattr(frame, name), getattr(previous, name))
+
+    out = {
         "sph_points": typed_array(frame.sphere_pos.ravel()),
-        "sph_radius": typed_array(frame.sphere_radius),
-        "sph_rgb": typed_array(frame.sphere_rgb.ravel()),
         "tri_points": typed_array(frame.tri_points.ravel()),
-        "tri_polys": typed_array(_cells(len(frame.tri_points), 3)),
-        "tri_rgb": typed_array(frame.tri_rgb.ravel()),
         "line_points": typed_array(frame.line_points.ravel()),
-        "line_cells": typed_array(_cells(len(frame.line_points), 2)),
-        "line_rgb": typed_array(frame.line_rgb.ravel()),
         "n_spheres": int(len(frame.sphere_ids)),
         "iter": frame.iter,
         "sim_time": f"{frame.time:.6g}",
         "bar_lo": f"{frame.value_range[0]:.4g}",
         "bar_hi": f"{frame.value_range[1]:.4g}",
     }
+    if not same("sphere_radius"):
+        out["sph_radius"] = typed_array(frame.sphere_radius)
+    if not same("sphere_rgb"):
+        out["sph_rgb"] = typed_array(frame.sphere_rgb.ravel())
+    if not same("tri_rgb"):
+        out["tri_polys"] = typed_array(_cells(len(frame.tri_points), 3))
+        out["tri_rgb"] = typed_array(frame.tri_rgb.ravel())
+    if not same("line_rgb"):
+        out["line_cells"] = typed_array(_cells(len(frame.line_points), 2))
+        out["line_rgb"] = typed_array(frame.line_rgb.ravel())
+    return out
 
 
 def click_ray(position: dict, camera: dict, size) -> tuple[np.ndarray, np.ndarray]:
@@ -168,7 +178,7 @@ def build_server(session: Session, token: str):
                         mapper=("{scaleArray: 'radius', scaleMode: 1, scaleFactor: 1, scalarVisibility: true,"
                                 " colorMode: 2}",)):
                     vtkw.VtkAlgorithm(vtk_class="vtkSphereSource", port=1,
-                                      state=("{radius: 1, phiResolution: 16, thetaResolution: 16}",))
+                                      state=("{radius: 1, phiResolution: 6, thetaResolution: 8}",))
                     with vtkw.VtkPolyData("spheres", port=0, points=("sph_points",), connectivity="points"):
                         with vtkw.VtkPointData():
                             vtkw.VtkDataArray(registration="setScalars", name="rgb", type="Uint8Array",
@@ -217,17 +227,19 @@ def build_server(session: Session, token: str):
 
 
 async def _pump(session: Session, server) -> None:
-    """Publish new frames, the controller's state and the live plots, a few times a second."""
+    """Publish new frames, the controller's state and the live plots, every ``session.interval`` seconds."""
     state = server.state
     while not session.closing:
         await asyncio.sleep(session.interval)
+        t0 = time.perf_counter()
         try:
             update = session.poll()
         except Exception as e:  # noqa: BLE001 - shown in the page; the view goes on
             update = {"message": f"view: {type(e).__name__}: {e}"}
         if update:
-            with state:
+            with state:   # sends the changes to the page
                 state.update(update)
+        session.spent(time.perf_counter() - t0, publish=True)
 
 
 def serve(session: Session, host: str, token: str) -> int:

@@ -21,6 +21,11 @@ import numpy as np
 
 from granum.yade.view import frames
 
+#: the largest share of the run's wall time the view may take (frames and publishing them, server side)
+BUDGET = 0.04
+#: shortest time between two frames [s]
+MIN_INTERVAL = 0.1
+
 #: renderer options the browser view draws; any other option set away from its default is refused by name
 DRAWN = ("shape", "wire", "bound", "intrPhys", "intrWire", "mask", "dispScale", "cellColor", "bgColor")
 
@@ -32,13 +37,16 @@ class Session:
         self.omega = omega
         self.renderer = renderer
         self.field = "color"
-        self.interval = 0.1          # shortest time between two frames [s]
+        self.interval = MIN_INTERVAL  # time between two frames [s], widened by spent() to stay within BUDGET
         self.closing = False
         self.loop = None             # the server's event loop, once it runs
         self.server = None
         self.view_widget = None
         self.url = ""
         self.hook_seconds = 0.0      # wall time spent in between_chunks [s]
+        self.publish_seconds = 0.0   # wall time the server's loop spent publishing frames [s]
+        self._frame_cost = 0.0
+        self._publish_cost = 0.0
         self.hook_calls = 0
         self.frames_taken = 0
         self._lock = threading.Lock()
@@ -83,7 +91,18 @@ class Session:
                 with self._lock:
                     self._fresh = f
             self._last_take = t0
+            self.spent(time.perf_counter() - t0, publish=False)
         self.hook_seconds += time.perf_counter() - t0
+
+    def spent(self, seconds: float, publish: bool) -> None:
+        """Account the time a frame took to take (``publish`` False) or to publish, and space frames so that
+        taking and publishing them stay within :data:`BUDGET` of the wall time."""
+        if publish:
+            self.publish_seconds += seconds
+            self._publish_cost = seconds
+        else:
+            self._frame_cost = seconds
+        self.interval = max(MIN_INTERVAL, (self._frame_cost + self._publish_cost) / BUDGET)
 
     def set_field(self, field: str) -> None:
         if field not in frames.FIELDS:
@@ -142,8 +161,8 @@ class Session:
             update["message"] = self.message = str(e)
             f = None
         if f is not None:
+            update.update(frame_state(f, self._shown))
             self._shown = f
-            update.update(frame_state(f))
         update.update(self._plot_update())
         return update
 
