@@ -239,7 +239,8 @@ async def _pump(session: Session, server) -> None:
         if update:
             with state:   # sends the changes to the page
                 state.update(update)
-        session.spent(time.perf_counter() - t0, publish=True)
+        if "sph_points" in update:   # a frame was published
+            session.spent(time.perf_counter() - t0, publish=True)
 
 
 def serve(session: Session, host: str, token: str) -> int:

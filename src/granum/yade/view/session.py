@@ -23,8 +23,8 @@ from granum.yade.view import frames
 
 #: the largest share of the run's wall time the view may take (frames and publishing them, server side)
 BUDGET = 0.04
-#: shortest time between two frames [s]
-MIN_INTERVAL = 0.1
+#: shortest and longest time between two frames while a run goes on [s]
+MIN_INTERVAL, MAX_INTERVAL = 0.1, 5.0
 
 #: renderer options the browser view draws; any other option set away from its default is refused by name
 DRAWN = ("shape", "wire", "bound", "intrPhys", "intrWire", "mask", "dispScale", "cellColor", "bgColor")
@@ -95,14 +95,16 @@ class Session:
         self.hook_seconds += time.perf_counter() - t0
 
     def spent(self, seconds: float, publish: bool) -> None:
-        """Account the time a frame took to take (``publish`` False) or to publish, and space frames so that
-        taking and publishing them stay within :data:`BUDGET` of the wall time."""
+        """Account the time a frame took to take (``publish`` False) or to publish, and, while a run goes on,
+        space frames so that taking and publishing them stay within :data:`BUDGET` of the wall time (up to
+        frames :data:`MAX_INTERVAL` apart)."""
         if publish:
             self.publish_seconds += seconds
             self._publish_cost = seconds
         else:
             self._frame_cost = seconds
-        self.interval = max(MIN_INTERVAL, (self._frame_cost + self._publish_cost) / BUDGET)
+        wanted = (self._frame_cost + self._publish_cost) / BUDGET if self.omega.running else 0.0
+        self.interval = min(max(MIN_INTERVAL, wanted), MAX_INTERVAL)
 
     def set_field(self, field: str) -> None:
         if field not in frames.FIELDS:
