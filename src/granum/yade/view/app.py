@@ -30,6 +30,8 @@ from granum.yade.view import frames
 from granum.yade.view.session import Session
 
 _COOKIE = "granum_view_token"
+#: up to this many spheres, the glyph is a finely faceted sphere; beyond, a coarse one (about 5x fewer triangles)
+ROUND_SPHERES = 5000
 
 
 def typed_array(a: np.ndarray) -> dict | list:
@@ -58,6 +60,8 @@ def frame_state(frame: frames.Frame, previous: frames.Frame | None = None) -> di
         "tri_points": typed_array(frame.tri_points.ravel()),
         "line_points": typed_array(frame.line_points.ravel()),
         "n_spheres": int(len(frame.sphere_ids)),
+        # the sphere glyph's facets: round when few, coarse when many (each sphere draws them all)
+        "sph_res": [16, 16] if len(frame.sphere_ids) <= ROUND_SPHERES else [6, 8],
         "iter": frame.iter,
         "sim_time": f"{frame.time:.6g}",
         "bar_lo": f"{frame.value_range[0]:.4g}",
@@ -178,7 +182,7 @@ def build_server(session: Session, token: str):
                         mapper=("{scaleArray: 'radius', scaleMode: 1, scaleFactor: 1, scalarVisibility: true,"
                                 " colorMode: 2}",)):
                     vtkw.VtkAlgorithm(vtk_class="vtkSphereSource", port=1,
-                                      state=("{radius: 1, phiResolution: 6, thetaResolution: 8}",))
+                                      state=("{radius: 1, phiResolution: sph_res[0], thetaResolution: sph_res[1]}",))
                     with vtkw.VtkPolyData("spheres", port=0, points=("sph_points",), connectivity="points"):
                         with vtkw.VtkPointData():
                             vtkw.VtkDataArray(registration="setScalars", name="rgb", type="Uint8Array",
