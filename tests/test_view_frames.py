@@ -91,3 +91,21 @@ def test_without_trame_the_view_says_how_to_install(scene, monkeypatch):
     finally:
         view.forbid()
         qt.close()
+
+
+def test_granum_script_run_opens_no_port(tmp_path):
+    """`granum script.py` (no --view) whose script calls qt.View(): no server, a line saying how to see it."""
+    import os
+    import subprocess
+    from pathlib import Path
+
+    script = tmp_path / "viewing.py"
+    script.write_text("from yade import qt\nfrom granum.yade import view\nqt.View()\nqt.Controller()\n"
+                      "print('SERVED', view.current() is not None)\n")
+    src = str(Path(__file__).resolve().parents[1] / "src")
+    env = {**os.environ, "PYTHONPATH": src + os.pathsep + os.environ.get("PYTHONPATH", "")}
+    out = subprocess.run([sys.executable, "-m", "granum", str(script)], capture_output=True, text=True, env=env,
+                         timeout=120, cwd=tmp_path)
+    assert out.returncode == 0, out.stderr
+    assert "SERVED False" in out.stdout
+    assert "granum --view" in out.stderr and "http://" not in out.stderr

@@ -105,11 +105,22 @@ def open_view(open_browser: bool | None = None):
     if _host in ("127.0.0.1", "localhost", "::1"):
         print(f"  from another machine: ssh -L {port}:127.0.0.1:{port} HOST, then open the URL above",
               file=sys.stderr)
-    if open_browser if open_browser is not None else _has_display():
+    if _in_notebook():
+        from IPython.display import IFrame, display
+
+        display(IFrame(session.url, width="100%", height=600))
+    elif open_browser if open_browser is not None else _has_display():
         import webbrowser
 
         webbrowser.open(session.url)
     return session
+
+
+def _in_notebook() -> bool:
+    """A Jupyter kernel (the page is shown in the notebook, under the cell)."""
+    ipython = sys.modules.get("IPython")
+    shell = ipython.get_ipython() if ipython is not None and hasattr(ipython, "get_ipython") else None
+    return type(shell).__name__ == "ZMQInteractiveShell"
 
 
 def close_view() -> None:

@@ -149,7 +149,7 @@ class Session:
         O = self.omega
         engines = "\n".join(f"{type(e).__name__}" + (f" ({e.label})" if getattr(e, "label", "") else "") +
                             (" [dead]" if getattr(e, "dead", False) else "") for e in O.engines)
-        return {"running": bool(O.running), "dt": f"{O.dt:.6g}", "speed": f"{O.speed:.4g} steps/s",
+        return {"running": bool(O.running), "dt": f"{O.dt:.6g}", "bg": list(map(float, self.renderer.bgColor)), "speed": f"{O.speed:.4g} steps/s",
                 "engines": engines, "message": self.message}
 
     def poll(self) -> dict:
