@@ -221,3 +221,13 @@ def test_live_plot_gains_points(served, browser):
     assert O.iter == start + 400
     _wait(lambda: points() > before, timeout=20, what="the plot to gain points")
     _canvas_picture(browser, "tutorial02-plot")
+
+
+def test_reload_goes_back_to_the_saved_scene(served, browser):
+    """Tutorial 02 ends with O.saveTmp(): the controller's Reload brings its first step back."""
+    session, O = served
+    if O.iter == 0:
+        O.run(10, True)
+    _click(browser, "reload")
+    _wait(lambda: O.iter == 0, timeout=30, what="O.reload")
+    _wait(lambda: "#0 " in _text(browser, "clock"), timeout=10, what="the page to show iteration 0")

@@ -109,3 +109,16 @@ def test_granum_script_run_opens_no_port(tmp_path):
     assert out.returncode == 0, out.stderr
     assert "SERVED False" in out.stdout
     assert "granum --view" in out.stderr and "http://" not in out.stderr
+
+
+def test_periodic_ghosts(scene):
+    """A sphere crossing a face of the cell is drawn again one cell vector away; one inside is not."""
+    O.reset()
+    O.periodic = True
+    O.cell.setBox(10, 10, 10)
+    O.bodies.append([utils.sphere((0.5, 5, 5), 1.0), utils.sphere((5, 5, 5), 1.0), utils.sphere((12, 9.5, 5), 1.0)])
+    f = frames.take_frame(O._scene)
+    assert sorted(f.sphere_ids.tolist()) == [0, 0, 1, 2, 2]
+    np.testing.assert_allclose(f.sphere_pos[f.sphere_ids == 0], [[0.5, 5, 5], [10.5, 5, 5]])
+    np.testing.assert_allclose(f.sphere_pos[f.sphere_ids == 2], [[2, 9.5, 5], [2, -0.5, 5]])
+    assert len(frames.take_frame(O._scene, frames.Options(ghosts=False)).sphere_ids) == 3

@@ -156,6 +156,8 @@ def build_server(session: Session, token: str):
     ctrl.step = lambda: command("step")
     ctrl.run_n = lambda n: command("run", n)
     ctrl.set_dt = lambda text: command("dt", text)
+    ctrl.set_dyn_dt = lambda on: command("dynDt", on)
+    ctrl.reload = lambda: command("reload")
     ctrl.reset_camera = lambda: view.reset_camera()
     ctrl.yade_camera = lambda: view.set_camera(session.camera())
     ctrl.on_client_connected.add(lambda **_: session.loop.call_later(0.5, ctrl.yade_camera))
@@ -210,6 +212,10 @@ def build_server(session: Session, token: str):
                 html.Span("O.dt = {{ dt }} s ")
                 html.Input(v_model=("dt_text",), style="width:90px", id="dt_text", placeholder="new dt")
                 html.Button("Set", id="set_dt", click=(ctrl.set_dt, "[dt_text]"))
+                html.Input(type="checkbox", id="dyn_dt", checked=("dyn_dt",), disabled=("!dyn_dt_available",),
+                           change=(ctrl.set_dyn_dt, "[$event.target.checked]"))
+                html.Span("O.dynDt ")
+                html.Button("Reload", id="reload", click=ctrl.reload)
             html.Div("{{ running ? 'running' : 'paused' }}  {{ speed }}  {{ message }}", id="status")
             with html.Div(style="margin:6px 0"):
                 html.Span("Colour by ")

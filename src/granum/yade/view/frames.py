@@ -53,6 +53,7 @@ class Options(NamedTuple):
     intrPhys: bool = False
     intrWire: bool = False
     mask: int = -1
+    ghosts: bool = True
     dispScale: tuple = (1.0, 1.0, 1.0)
     cellColor: tuple = (1.0, 1.0, 0.0)
 
@@ -153,6 +154,9 @@ def take_frame(scene, options: Options | None = None, field: str = "color") -> F
 
     spheres = drawn[kind == int(ShapeKind.SPHERE)] if options.shape else drawn[:0]
     sphere_pos = _displaced(scene, spheres, scale)
+    radius = fields.sphere_radii(scene, spheres)
+    if scene.periodic and options.ghosts:
+        spheres, sphere_pos, radius = _with_ghosts(scene, spheres, sphere_pos, radius)
     extent = (sphere_pos.min(axis=0), sphere_pos.max(axis=0)) if spheres.size else (np.zeros(3), np.ones(3))
 
     tris, tri_rgb, lines, line_rgb = [], [], [], []
@@ -197,11 +201,28 @@ def take_frame(scene, options: Options | None = None, field: str = "color") -> F
     return Frame(
         iter=int(scene.iter), time=float(scene.time), sphere_ids=spheres,
         sphere_pos=sphere_pos.astype(np.float32),
-        sphere_radius=fields.sphere_radii(scene, spheres).astype(np.float32),
+        sphere_radius=radius.astype(np.float32),
         sphere_rgb=colors[rows[spheres]],
         tri_points=stack(tris, (3, 3), np.float32), tri_rgb=stack(tri_rgb, (3,), np.uint8),
         line_points=stack(lines, (2, 3), np.float32), line_rgb=stack(line_rgb, (3,), np.uint8),
         field=field, value_range=value_range)
+
+
+def _with_ghosts(scene, ids, pos, radius):
+    """Spheres plus their periodic images across each face of the cell they cross (YADE's ghosts): a sphere
+    within its radius of a face is drawn again one cell vector away. Images across edges and corners (two or
+    three faces at once) are not drawn."""
+    h = np.asarray(scene.cell_hsize, float)
+    frac = np.linalg.solve(h, pos.T).T                        # in [0, 1) inside the cell
+    normals = np.linalg.inv(h)                                 # row k: normal of the faces k, scaled by 1/height
+    reach = radius[:, None] * np.linalg.norm(normals, axis=1)  # the radius in fractional units, per axis
+    parts_ids, parts_pos, parts_r = [ids], [pos], [radius]
+    for k in range(3):
+        for crossing, sign in ((frac[:, k] < reach[:, k], 1.0), (1.0 - frac[:, k] < reach[:, k], -1.0)):
+            parts_ids.append(ids[crossing])
+            parts_pos.append(pos[crossing] + sign * h[:, k])
+            parts_r.append(radius[crossing])
+    return np.concatenate(parts_ids), np.concatenate(parts_pos), np.concatenate(parts_r)
 
 
 def contact_lines(scene) -> tuple[np.ndarray, np.ndarray]:

@@ -27,7 +27,7 @@ BUDGET = 0.04
 MIN_INTERVAL, MAX_INTERVAL = 0.1, 5.0
 
 #: renderer options the browser view draws; any other option set away from its default is refused by name
-DRAWN = ("shape", "wire", "bound", "intrPhys", "intrWire", "mask", "dispScale", "cellColor", "bgColor")
+DRAWN = ("shape", "wire", "bound", "intrPhys", "intrWire", "mask", "ghosts", "dispScale", "cellColor", "bgColor")
 
 
 class Session:
@@ -70,7 +70,7 @@ class Session:
                 raise NotImplementedError(f"the browser view does not draw qt.Renderer().{name}; set it back to "
                                           f"{spec.default!r} (drawn: {', '.join(DRAWN)})")
         return frames.Options(shape=r.shape, wire=r.wire, bound=r.bound, intrPhys=r.intrPhys, intrWire=r.intrWire,
-                              mask=r.mask, dispScale=tuple(r.dispScale), cellColor=tuple(r.cellColor))
+                              mask=r.mask, ghosts=r.ghosts, dispScale=tuple(r.dispScale), cellColor=tuple(r.cellColor))
 
     def frame(self) -> frames.Frame:
         """A frame of the current scene, taken now."""
@@ -147,10 +147,14 @@ class Session:
     # ---- what the page shows -----------------------------------------------------------------
     def panel_state(self) -> dict:
         O = self.omega
-        engines = "\n".join(f"{type(e).__name__}" + (f" ({e.label})" if getattr(e, "label", "") else "") +
-                            (" [dead]" if getattr(e, "dead", False) else "") for e in O.engines)
-        return {"running": bool(O.running), "dt": f"{O.dt:.6g}", "bg": list(map(float, self.renderer.bgColor)), "speed": f"{O.speed:.4g} steps/s",
-                "engines": engines, "message": self.message}
+
+        def line(e):
+            label = f" ({e.label})" if getattr(e, "label", "") else ""
+            return type(e).__name__ + label + (" [dead]" if getattr(e, "dead", False) else "")
+
+        return {"running": bool(O.running), "dt": f"{O.dt:.6g}", "bg": list(map(float, self.renderer.bgColor)),
+                "speed": f"{O.speed:.4g} steps/s", "engines": "\n".join(map(line, O.engines)),
+                "dyn_dt": bool(O.dynDt), "dyn_dt_available": bool(O.dynDtAvailable), "message": self.message}
 
     def poll(self) -> dict:
         """What changed since the last poll, as shared-state entries (called on the server's loop)."""
@@ -188,7 +192,7 @@ class Session:
 
     # ---- controller ----------------------------------------------------------------------------
     def command(self, name: str, *args) -> None:
-        """Queue a controller command (play, pause, step, run N, dt) on the worker thread."""
+        """Queue a controller command (play, pause, step, run N, dt, dynDt, reload) on the worker thread."""
         self._worker.submit(self._run_command, name, *args)
 
     def _run_command(self, name: str, *args) -> None:
@@ -209,6 +213,12 @@ class Session:
                 O.run(n)
             elif name == "dt":
                 O.dt = float(args[0])
+            elif name == "dynDt":
+                O.dynDt = bool(args[0])
+            elif name == "reload":
+                O.pause()
+                O.wait()
+                O.reload()
             self.message = ""
         except Exception as e:  # noqa: BLE001 - shown in the page, where the user clicked
             self.message = f"{name}: {e}"
