@@ -231,3 +231,25 @@ def test_reload_goes_back_to_the_saved_scene(served, browser):
     _click(browser, "reload")
     _wait(lambda: O.iter == 0, timeout=30, what="O.reload")
     _wait(lambda: "#0 " in _text(browser, "clock"), timeout=10, what="the page to show iteration 0")
+
+
+def test_colour_by_speed_shows_the_range_on_the_colour_bar(served, browser):
+    from selenium.webdriver.common.by import By
+    from selenium.webdriver.support.ui import Select
+
+    session, O = served
+    if O.iter == 0:
+        O.run(200, True)
+    speeds = [np.linalg.norm(np.asarray(b.state.vel)) for b in O.bodies]
+    Select(browser.find_element(By.ID, "field")).select_by_value("velocity")
+
+    def bar():   # the range shown, once the frame coloured by speed has arrived
+        parts = _text(browser, "bar_range").split(" .. ")
+        return tuple(map(float, parts)) if len(parts) == 2 and float(parts[1]) > 0 else None
+
+    lo, hi = _wait(bar, timeout=20, what="the colour bar")
+    assert lo == pytest.approx(min(speeds), rel=1e-3, abs=1e-12)
+    assert hi == pytest.approx(max(speeds), rel=1e-3)
+    assert browser.find_element(By.ID, "colorbar").is_displayed()
+    _canvas_picture(browser, "tutorial02-speed")
+    Select(browser.find_element(By.ID, "field")).select_by_value("color")

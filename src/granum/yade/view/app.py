@@ -225,7 +225,7 @@ def build_server(session: Session, token: str):
                 html.Button("YADE camera", id="yade_camera", click=ctrl.yade_camera)
             html.Div(v_show="field != 'color'", id="colorbar",
                      style=("'height:12px;background:linear-gradient(to right,' + bar_stops.join(',') + ')'",))
-            html.Div("{{ bar_lo }} .. {{ bar_hi }}", v_show="field != 'color'")
+            html.Div("{{ bar_lo }} .. {{ bar_hi }}", v_show="field != 'color'", id="bar_range")
             html.H4("Inspector", style="margin:8px 0 2px")
             html.Pre("{{ picked || 'click a body' }}", id="picked", style="white-space:pre-wrap;margin:0")
             html.H4("Engines", style="margin:8px 0 2px")
