@@ -122,3 +122,13 @@ def test_periodic_ghosts(scene):
     np.testing.assert_allclose(f.sphere_pos[f.sphere_ids == 0], [[0.5, 5, 5], [10.5, 5, 5]])
     np.testing.assert_allclose(f.sphere_pos[f.sphere_ids == 2], [[2, 9.5, 5], [2, -0.5, 5]])
     assert len(frames.take_frame(O._scene, frames.Options(ghosts=False)).sphere_ids) == 3
+
+
+def test_engine_list_gives_each_engine_attributes(scene):
+    from granum.yade import NewtonIntegrator
+
+    O.engines = [NewtonIntegrator(damping=0.3, label="newton")]
+    s = Session(O, RENDERER)
+    (e,) = s.panel_state()["engines"]
+    assert e["name"] == "NewtonIntegrator (newton)"
+    assert "damping = 0.3" in e["attrs"].splitlines()

@@ -229,7 +229,10 @@ def build_server(session: Session, token: str):
             html.H4("Inspector", style="margin:8px 0 2px")
             html.Pre("{{ picked || 'click a body' }}", id="picked", style="white-space:pre-wrap;margin:0")
             html.H4("Engines", style="margin:8px 0 2px")
-            html.Pre("{{ engines }}", id="engines", style="white-space:pre-wrap;margin:0")
+            with html.Div(id="engines"):
+                with html.Details(v_for="(e, k) in engines", key="k"):
+                    html.Summary("{{ e.name }}")
+                    html.Pre("{{ e.attrs }}", style="white-space:pre-wrap;margin:0 0 0 12px;font-size:11px")
             html.H4("Plots ({{ plot_rows }} points)", id="plot_title", v_show="plot_png", style="margin:8px 0 2px")
             html.Img(src=("plot_png",), v_show="plot_png", id="plot", style="width:100%")
     session.view_widget = view

@@ -30,6 +30,16 @@ MIN_INTERVAL, MAX_INTERVAL = 0.1, 5.0
 DRAWN = ("shape", "wire", "bound", "intrPhys", "intrWire", "mask", "ghosts", "dispScale", "cellColor", "bgColor")
 
 
+def engine_attributes(engine) -> str:
+    """``name = value`` lines of an engine's declared attributes (the inspector's engine list); long values
+    (functor lists, id lists) are cut."""
+    def short(value):
+        text = repr(value)
+        return text if len(text) <= 60 else text[:57] + "..."
+
+    return "\n".join(f"{name} = {short(getattr(engine, name))}" for name in type(engine)._attrs)
+
+
 class Session:
     """The state shared by the page's server thread, the run's thread and the user's thread."""
 
@@ -153,7 +163,8 @@ class Session:
             return type(e).__name__ + label + (" [dead]" if getattr(e, "dead", False) else "")
 
         return {"running": bool(O.running), "dt": f"{O.dt:.6g}", "bg": list(map(float, self.renderer.bgColor)),
-                "speed": f"{O.speed:.4g} steps/s", "engines": "\n".join(map(line, O.engines)),
+                "speed": f"{O.speed:.4g} steps/s",
+                "engines": [{"name": line(e), "attrs": engine_attributes(e)} for e in O.engines],
                 "dyn_dt": bool(O.dynDt), "dyn_dt_available": bool(O.dynDtAvailable), "message": self.message}
 
     def poll(self) -> dict:
