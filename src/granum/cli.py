@@ -13,6 +13,7 @@ import importlib.abc
 import importlib.util
 import os
 import sys
+import time
 import types
 
 
@@ -55,6 +56,11 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--wait", action="store_true",
                    help="when the script returns with a run going on in the background (O.run()), let it go on "
                         "until the script's own hooks pause it (or Ctrl-C); without it the run stops there")
+    p.add_argument("--view", action="store_true",
+                   help="serve a live 3D view, controller and plots of the script's scene in the browser "
+                        "(needs granum[view]); the URL printed holds an access token; Ctrl-C quits")
+    p.add_argument("--view-host", default="127.0.0.1", metavar="HOST",
+                   help="interface the view listens on (default 127.0.0.1, loopback only: use an SSH tunnel)")
     p.add_argument("--version", action="version", version=f"granum {__version__}")
     p.add_argument("script", nargs="?", help="YADE script to run")
     p.add_argument("args", nargs=argparse.REMAINDER, help="arguments passed to the script as sys.argv[1:]")
@@ -123,14 +129,39 @@ def main(argv: list[str] | None = None) -> int:
         return batch_main(argv[1:])
     args = _parser().parse_args(argv)
     _set_threads(args.threads)
+    from granum.yade import view
+
+    if args.script is None or args.view:
+        view.allow(args.view_host)   # a view asked for: the prompt, or --view
+    else:
+        view.forbid()                # a script run opens no port
     if args.script is None:
         interactive()
         return 0
     if not os.path.exists(args.script):
         print(f"granum: no such script: {args.script}", file=sys.stderr)
         return 2
+    if args.view:
+        view.open_view()
     run_script(args.script, args.args, args.threads)
+    if args.view:
+        return serve_until_interrupted()
     return finish_background_run(args.wait)
+
+
+def serve_until_interrupted() -> int:
+    """``--view``: the script has returned; the page stays up (the run goes on if it was started) until
+    Ctrl-C, which stops a run at a step boundary and ends the process."""
+    from granum.yade import O
+
+    print("granum view: the script has returned; Ctrl-C quits", file=sys.stderr)
+    try:
+        while True:
+            time.sleep(3600)
+    except KeyboardInterrupt:
+        O.pause()
+        O.wait()
+    return 0
 
 
 def finish_background_run(wait: bool) -> int:
