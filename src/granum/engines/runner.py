@@ -37,6 +37,7 @@ from granum.engines.status import status_message
 from granum.kernels import steploop
 from granum.kernels.cell import step_begin, step_end
 from granum.kernels.static import Static
+from granum.physics import cpm
 
 #: Longest wall-clock time of one compiled chunk [s].
 CHUNK_SECONDS = 0.25
@@ -172,6 +173,10 @@ class Runner:
             i = int(bad[0])
             raise SimulationError(f"body {i} has mass {b.mass[i]} but free translational DOFs; "
                                   f"give it a positive mass (density) or block its DOFs (fixed=True)")
+        i = cpm.body_without_state(b, self.scene.materials)
+        if i >= 0:
+            raise SimulationError(f"body {i} has a CpmMat material but a plain State; the concrete model needs a "
+                                  f"CpmState (give it CpmState(), or make it with utils.sphere)")
 
     def steps_allowed(self, plan: Plan, limit: int) -> int:
         """How many whole steps may run compiled before a Python engine could be due."""

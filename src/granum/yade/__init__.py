@@ -25,6 +25,7 @@ from future import standard_library as _standard_library
 from granum import idem
 from granum.engines.base import Engine, GlobalEngine, PartialEngine, PeriodicEngine
 from granum.engines.controllers import PeriTriaxController
+from granum.engines.cpm import CpmStateUpdater
 from granum.engines.functors import CLASSES as _FUNCTORS
 from granum.engines.functors import BoundFunctor, Functor, IGeomFunctor, IPhysFunctor, LawFunctor
 from granum.engines.kinematic import (
@@ -74,7 +75,7 @@ from granum.yade import (  # noqa: F401 - the yade.X modules (_laws: the law cla
     ymport,
 )
 from granum.yade.batch import readParamsFromTable, runningInBatch, waitIfBatch
-from granum.yade.bodies import SHAPE_CLASSES, Aabb, Body, Shape, State
+from granum.yade.bodies import SHAPE_CLASSES, Aabb, Body, CpmState, Shape, State
 from granum.yade.cell import Cell
 from granum.yade.interactions import GEOM_VIEWS as _GEOMS
 from granum.yade.interactions import PHYS_VIEWS as _PHYSS
@@ -123,7 +124,7 @@ _namespace.update(
     TriaxialStateRecorder=TriaxialStateRecorder,
     ForceEngine=ForceEngine, TranslationEngine=TranslationEngine, RotationEngine=RotationEngine,
     KinematicEngine=KinematicEngine, HelixEngine=HelixEngine, CombinedKinematicEngine=CombinedKinematicEngine,
-    ParallelEngine=ParallelEngine,
+    ParallelEngine=ParallelEngine, CpmStateUpdater=CpmStateUpdater, CpmState=CpmState,
     SimulationError=SimulationError, Body=Body, State=State, Shape=Shape, Aabb=Aabb, Cell=Cell,
     Interaction=Interaction, Vector2=Vector2, Vector2i=Vector2i, Vector3=Vector3,
     Vector3i=Vector3i, Vector6=Vector6, Matrix3=Matrix3, Quaternion=Quaternion,
