@@ -165,6 +165,10 @@ class Runner:
     def check_scene(self) -> None:
         """Errors that would otherwise surface as NaN inside the kernels."""
         b = self.scene.bodies
+        i = cpm.body_without_state(b, self.scene.materials)
+        if i >= 0:
+            raise SimulationError(f"body {i} has a CpmMat material but a plain State; the concrete model needs a "
+                                  f"CpmState (give it CpmState(), or make it with utils.sphere)")
         n = b.count
         standalone = (b.clump_id[:n] < 0) | (b.clump_id[:n] == np.arange(n))  # clump members move with the clump
         free = b.alive[:n] & (b.blocked[:n] & 0b111 != 0b111) & standalone
@@ -173,10 +177,6 @@ class Runner:
             i = int(bad[0])
             raise SimulationError(f"body {i} has mass {b.mass[i]} but free translational DOFs; "
                                   f"give it a positive mass (density) or block its DOFs (fixed=True)")
-        i = cpm.body_without_state(b, self.scene.materials)
-        if i >= 0:
-            raise SimulationError(f"body {i} has a CpmMat material but a plain State; the concrete model needs a "
-                                  f"CpmState (give it CpmState(), or make it with utils.sphere)")
 
     def steps_allowed(self, plan: Plan, limit: int) -> int:
         """How many whole steps may run compiled before a Python engine could be due."""

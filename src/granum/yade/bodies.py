@@ -740,8 +740,6 @@ class BodyContainer:
             raise ValueError(f"O.bodies.append: this body is already in a simulation (id {b._row}); "
                              f"create a new body instead of appending it twice")
         src, row = b._store, b._row
-        if src.bodies.shape_kind[row] == ShapeKind.NONE:
-            raise ValueError("O.bodies.append: the body has no shape")
         i = scene.add_body_row()
         scene.bodies.copy_row(src.bodies, row, i)
         kind, table, srow = src.shape_table(row)
