@@ -113,6 +113,15 @@ def test_damage_follows_the_exponential_softening_law():
         assert r["relResidualStrength"] == pytest.approx((1 - omega) * k / e0 if k > e0 else 1.0, rel=1e-9)
 
 
+def test_elastic_energy_as_yade(granum_runs):
+    """Law2_ScGeom_CpmPhys_Cpm.elasticEnergy() of a damaged contact (omega 0.66): YADE's sum, whose normal term
+    divides by the damaged stiffness."""
+    ref = reference("cpm")["elasticEnergy"]
+    got = granum_runs["elasticEnergy"]
+    assert got[0] == ref[0] and ref[2] > 0.5
+    assert got[1] == pytest.approx(ref[1], rel=1e-9)
+
+
 def test_updater_and_states_of_the_reference(granum_runs):
     """The CpmStateUpdater's and CpmState's defaults and the class associations, as YADE's."""
     ref = reference("cpm")

@@ -150,7 +150,8 @@ M_ISO_PRESTRESS = materials.column("cpm_iso_prestress")
 
 #: the CpmPhys columns (after the energies: the law writes no moment; they share their columns with the
 #: other laws' histories, which no CPM contact uses)
-CPM_E = register_history("cpm", 41, after=("energy",))   # normal modulus [Pa]
+CPM_WIDTH = 39                     # columns of the group
+CPM_E = register_history("cpm", CPM_WIDTH, after=("energy",))   # normal modulus [Pa]
 CPM_G = CPM_E + 1                  # shear modulus [Pa]
 CPM_CROSS_SECTION = CPM_E + 2      # equivalent cross-section A [m^2]
 CPM_REF_LENGTH = CPM_E + 3         # distance of the centres at creation l_0 [m]
@@ -181,7 +182,6 @@ CPM_KAPPA_D = CPM_E + 33           # kappa_D, the largest equivalent strain so f
 CPM_EPS_N_PL = CPM_E + 34          # epsilon_N^pl [-]
 CPM_EPS_T_PL = CPM_E + 35          # 35..37 epsilon_T^pl [-]
 CPM_REL_RESIDUAL = CPM_E + 38      # relative residual strength [-]
-CPM_SPARE = CPM_E + 39             # 39..40 unused, so that the group keeps its declared width
 HISTORY = ("cpm",)
 
 _BOOL = "bool"

@@ -13,7 +13,8 @@
 # (FrictMat against CpmMat: Ip2_FrictMat_CpmMat_FrictPhys and Cundall-Strack), 'rate' (dmgTau, plTau and
 # their exponents set, and Law2's yieldSurfType=0: YADE 2023.02a's build ignores them; 'rate_equals_tension'
 # says whether the run equals 'tension').
-# 'defaults': the dict() of each class; 'yieldSigmaTMagnitude': what YADE says when it is called.
+# 'defaults': the dict() of each class; 'yieldSigmaTMagnitude': what YADE says when it is called;
+# 'elasticEnergy': [step, Law2_ScGeom_CpmPhys_Cpm.elasticEnergy(), omega] after 500 steps of oblique pulling.
 # Regenerate: cd tests/reference/yade && yade -n -x cpm.py
 # YADE 2023.02a
 import sys; import os; sys.path.insert(0, os.path.dirname(os.path.abspath(sys.argv[0])))
@@ -113,6 +114,9 @@ import json
 same = lambda a, b: json.dumps(tojson(a)) == json.dumps(tojson(b))   # NaN == NaN here
 strip = lambda recs, keys: [{k: v for k, v in r.items() if k not in keys} for r in recs]
 data['rate_equals_tension'] = catch(lambda: same(strip(rate_run(), PHYS[-4:]), strip(data['tension'], PHYS[-4:])))
+energyLaw = Law2_ScGeom_CpmPhys_Cpm()
+scene(cpm(), cpm(), .9, [(N * .5 + T, 500)], 1000, law=energyLaw)
+data['elasticEnergy'] = [O.iter, energyLaw.elasticEnergy(), O.interactions[0, 1].phys.omega]
 data['yieldSigmaTMagnitude'] = catch(lambda: Law2_ScGeom_CpmPhys_Cpm().yieldSigmaTMagnitude(-1e6, 0., 3.5e6, .8))
 data["defaults"] = {type(c).__name__: catch(lambda c=c: c.dict()) for c in (CpmMat(), CpmPhys(), Ip2_CpmMat_CpmMat_CpmPhys(),
                                                                Ip2_FrictMat_CpmMat_FrictPhys(),
