@@ -93,7 +93,8 @@ def test_the_reference_runs_exercise_what_they_are_named_after():
     assert max(r["state0"]["numBrokenCohesive"] for r in ref["tension_linear"]) > 100
     assert np.linalg.norm(ref["shear"][-1]["epsTPl"]) > 1e-3
     assert min(r.get("epsNPl", 0) for r in ref["compression"]) < -5e-4
-    assert not ref["noncohesive"][-1]["real"] and ref["noncohesive"][-1]["state0"]["normDmg"] == 1.0
+    last = ref["noncohesive"][-1]["state0"]
+    assert last["normDmg"] == 1.0 and last["numBrokenCohesive"] > 100   # made and ended every other step
     assert ref["frict_cpm"][-1]["phys_class"] == "FrictPhys"
     assert ref["rate_equals_tension"] is True   # YADE ignores the rate dependence: granum refuses it
     assert ref["prestress"][0]["epsN"] == pytest.approx(-1.5e6 / 24e9)

@@ -1,10 +1,12 @@
 # cpm: the concrete particle model (CpmMat, Ip2_CpmMat_CpmMat_CpmPhys, Law2_ScGeom_CpmPhys_Cpm, CpmStateUpdater,
 # Ip2_FrictMat_CpmMat_FrictPhys) on two spheres (r .5 and .4) whose motion is imposed (blockedDOFs='xyzXYZ',
 # velocity set, dt=1e-6, no gravity, no damping), the contact made with interactionDetectionFactor 1.5 as in
-# YADE's concrete examples (which reset it to 1 after the first step: 'tension' does so), recorded every `every`
-# steps: the CpmPhys (all its attributes), penetrationDepth and normal, forces and torques on both bodies, and
-# CpmStateUpdater's outputs (it runs every step: normDmg, numBrokenCohesive, numContacts, stress, epsVolumetric
-# of both bodies; avgRelResidual, maxOmega).
+# YADE's concrete examples (which reset it to 1 after the first step: 'tension' does so), recorded at steps 1, 2,
+# then 1 past each multiple of 20 up to 300 and of `every`: the CpmPhys (all its attributes), penetrationDepth
+# and normal, forces and torques on both bodies, and
+# CpmStateUpdater's outputs (it runs every 20 steps, in the step before a record: normDmg, numBrokenCohesive,
+# numContacts, stress, epsVolumetric of both bodies; avgRelResidual, maxOmega). The steps between records run in
+# one O.run(n, True).
 # Runs: 'tension' (exponential softening, damLaw=1, from a gap: refPD < 0), 'tension_linear' (damLaw=0,
 # omegaThreshold .999: the contact breaks, numBrokenCohesive), 'shear' (two different CpmMats: averaged
 # parameters; Mohr-Coulomb plasticity), 'compression' (epsSoft=-1e-3: plastic compression, then unloading and
@@ -60,6 +62,19 @@ def record(out, updater):
     out.append(tojson(rec))
 
 
+def recorded(i, every):
+    """Whether step i is recorded: 1, 2, then 1 past each multiple of 20 up to 300 and of `every` (the updater,
+    with iterPeriod 20, has just run)."""
+    return i < 3 or i % every == 1 or (i <= 301 and i % 20 == 1)
+
+
+def next_record(i, every):
+    j = i + 1
+    while not recorded(j, every):
+        j += 1
+    return j
+
+
 def scene(m1, m2, dist, legs, every, ip2=None, law=None, reset_factor=False):
     """legs: [(velocity of sphere 2, steps), ...]"""
     O.reset()
@@ -68,7 +83,7 @@ def scene(m1, m2, dist, legs, every, ip2=None, law=None, reset_factor=False):
     O.bodies.append([sphere((0, 0, 0), .5, material=a), sphere(dist * N, .4, material=b)])
     for k in (0, 1):
         O.bodies[k].state.blockedDOFs = 'xyzXYZ'
-    updater = CpmStateUpdater(iterPeriod=1)
+    updater = CpmStateUpdater(iterPeriod=20)   # runs in the steps before the records (iter % 20 == 1)
     bo1, ig2 = Bo1_Sphere_Aabb(aabbEnlargeFactor=1.5), Ig2_Sphere_Sphere_ScGeom(interactionDetectionFactor=1.5)
     O.engines = [ForceResetter(), InsertionSortCollider([bo1]),
                  InteractionLoop([ig2],
@@ -80,11 +95,12 @@ def scene(m1, m2, dist, legs, every, ip2=None, law=None, reset_factor=False):
     out = []
     for vel, steps in legs:
         O.bodies[1].state.vel = vel
-        for s in range(steps):
-            O.step()
+        end = O.iter + steps
+        while O.iter < end:
+            O.run(min(end, next_record(O.iter, every)) - O.iter, True)
             if reset_factor and O.iter == 1:
                 bo1.aabbEnlargeFactor = ig2.interactionDetectionFactor = 1.
-            if O.iter < 3 or O.iter % every == 0 or (O.iter <= 300 and O.iter % 20 == 0):
+            if recorded(O.iter, every):
                 record(out, updater)
     return out
 
