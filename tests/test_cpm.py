@@ -19,7 +19,8 @@ import numpy as np
 import pytest
 from conftest import REFERENCE, reference
 
-RUNS = ("tension", "tension_linear", "shear", "compression", "prestress", "noncohesive", "neverDamage", "frict_cpm")
+RUNS = ("tension", "tension_linear", "linear_default", "shear", "compression", "prestress", "noncohesive",
+        "neverDamage", "frict_cpm")
 #: a quantity is compared to 1e-9 of the largest magnitude it takes in the run, or of the largest magnitude of
 #: its companion: a shear strain or stress that is rounding noise (pure tension: about 1e-17) is measured
 #: against the normal one
@@ -121,6 +122,17 @@ def test_elastic_energy_as_yade(granum_runs):
     got = granum_runs["elasticEnergy"]
     assert got[0] == ref[0] and ref[2] > 0.5
     assert got[1] == pytest.approx(ref[1], rel=1e-9)
+
+
+def test_damage_law_and_its_inverse_as_yade(granum_runs):
+    """CpmPhys.funcG (the linear law above 1 past epsFracture, as YADE's) and funcGInv (YADE solves the exponential
+    law's inverse iteratively: to 1e-9)."""
+    ref = reference("cpm")
+    for (args, want), (_, got) in zip(ref["funcG"], granum_runs["funcG"], strict=True):
+        assert got == pytest.approx(want, rel=1e-14, abs=1e-300), args
+    for (args, want), (_, got) in zip(ref["funcGInv"], granum_runs["funcGInv"], strict=True):
+        assert got == pytest.approx(want, rel=1e-9, abs=1e-300), args
+    assert any(r["real"] and not r["isCohesive"] for r in ref["linear_default"])   # the link broke past omega 1
 
 
 def test_updater_and_states_of_the_reference(granum_runs):

@@ -249,9 +249,29 @@ def damage(kappa, eps_crack, eps_fracture, never_damage, linear):
     """Damage omega = g(kappa_D) of the module docstring (YADE's CpmPhys.funcG) [-]."""
     if kappa <= eps_crack or never_damage:
         return 0.0
-    if linear:
-        return min(1.0, eps_fracture / kappa * (kappa - eps_crack) / (eps_fracture - eps_crack))
+    if linear:   # not bounded by 1 past eps_fracture, as YADE's (the contact then ends, omega > omegaThreshold)
+        return eps_fracture / kappa * (kappa - eps_crack) / (eps_fracture - eps_crack)
     return 1.0 - eps_crack / kappa * math.exp(-(kappa - eps_crack) / eps_fracture)
+
+
+@jit
+def damage_inverse(omega, eps_crack, eps_fracture, never_damage=False, dam_law=1):
+    """kappa_D whose damage is ``omega`` (YADE's CpmPhys.funcGInv): 0 for omega <= 0 or with ``never_damage``;
+    the linear law in closed form, the exponential one by Newton's method from the crack onset (g is increasing
+    and concave there) [-]."""
+    if omega <= 0.0 or never_damage:
+        return 0.0
+    if dam_law == 0:
+        return eps_fracture * eps_crack / (eps_fracture - omega * (eps_fracture - eps_crack))
+    kappa = eps_crack
+    for _ in range(100):
+        g = damage(kappa, eps_crack, eps_fracture, False, False) if kappa > eps_crack else 0.0
+        slope = eps_crack / kappa * math.exp(-(kappa - eps_crack) / eps_fracture) * (1.0 / kappa + 1.0 / eps_fracture)
+        step = (omega - g) / slope
+        kappa += step
+        if abs(step) <= 1e-15 * kappa:
+            break
+    return kappa
 
 
 @jit

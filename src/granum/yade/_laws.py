@@ -16,6 +16,7 @@ from granum.core.contacts import C_CONTACTS, F_KN, F_KS, F_PEN, FLAG_ALIVE, I_FL
 from granum.engines.functors import CLASSES
 from granum.kernels.dispatch import code_of
 from granum.physics import cpm, mindlin
+from granum.yade.interactions import PHYS_VIEWS
 
 MINDLIN = CLASSES["Law2_ScGeom_MindlinPhys_Mindlin"]
 
@@ -101,3 +102,17 @@ def _cpm_elastic_energy(self) -> float:
 
 
 CLASSES["Law2_ScGeom_CpmPhys_Cpm"].elasticEnergy = _cpm_elastic_energy
+
+
+def _func_g(kappaD, epsCrackOnset, epsFracture, neverDamage=False, damLaw=1) -> float:
+    """Damage omega of the concrete law for the largest equivalent strain kappaD (YADE's CpmPhys.funcG) [-]."""
+    return float(cpm.damage(float(kappaD), float(epsCrackOnset), float(epsFracture), bool(neverDamage), damLaw == 0))
+
+
+def _func_g_inv(omega, epsCrackOnset, epsFracture, neverDamage=False, damLaw=1) -> float:
+    """kappaD whose damage is omega (YADE's CpmPhys.funcGInv) [-]."""
+    return cpm.damage_inverse(float(omega), float(epsCrackOnset), float(epsFracture), bool(neverDamage), int(damLaw))
+
+
+PHYS_VIEWS["CpmPhys"].funcG = staticmethod(_func_g)
+PHYS_VIEWS["CpmPhys"].funcGInv = staticmethod(_func_g_inv)

@@ -16,6 +16,8 @@
 # their exponents set, and Law2's yieldSurfType=0: YADE 2023.02a's build ignores them; 'rate_equals_tension'
 # says whether the run equals 'tension').
 # 'defaults': the dict() of each class; 'yieldSigmaTMagnitude': what YADE says when it is called;
+# 'linear_default': damLaw=0 with the default omegaThreshold 1: the contact ends when omega passes 1 (past
+# epsFracture); 'funcG', 'funcGInv': [arguments, value] of CpmPhys's damage law and its inverse;
 # 'elasticEnergy': [step, Law2_ScGeom_CpmPhys_Cpm.elasticEnergy(), omega] after 500 steps of oblique pulling.
 # Regenerate: cd tests/reference/yade && yade -n -x cpm.py
 # YADE 2023.02a
@@ -109,6 +111,7 @@ data = {}
 data['tension'] = scene(cpm(), cpm(), .95, [(N * 1.0, 3000)], 100, reset_factor=True)
 data['tension_linear'] = scene(cpm(damLaw=0), cpm(damLaw=0), .9, [(N * 1.0, 3000)], 100,
                                law=Law2_ScGeom_CpmPhys_Cpm(omegaThreshold=.999))
+data['linear_default'] = scene(cpm(damLaw=0), cpm(damLaw=0), .9, [(N * 1.0, 3000)], 100)
 data['shear'] = scene(cpm(), cpm(young=30e9, poisson=.25, sigmaT=3e6, frictionAngle=.5, epsCrackOnset=1.2e-4,
                                  relDuctility=20), .9, [(T * 1.0, 3000)], 100)
 data['compression'] = scene(cpm(), cpm(), .9, [(-N * 1.0, 1500), (N * 1.0, 3000)], 100,
@@ -133,6 +136,12 @@ data['rate_equals_tension'] = catch(lambda: same(strip(rate_run(), PHYS[-4:]), s
 energyLaw = Law2_ScGeom_CpmPhys_Cpm()
 scene(cpm(), cpm(), .9, [(N * .5 + T, 500)], 1000, law=energyLaw)
 data['elasticEnergy'] = [O.iter, energyLaw.elasticEnergy(), O.interactions[0, 1].phys.omega]
+G_ARGS = [(2e-4, 1e-4, 3e-3), (5e-5, 1e-4, 3e-3), (2e-4, 1e-4, 3e-3, True), (2e-4, 1e-4, 3e-3, False, 0),
+          (5e-3, 1e-4, 3e-3, False, 0), (1e-2, 2e-4, 1e-3)]
+G_INV_ARGS = [(0.5, 1e-4, 3e-3), (0.0, 1e-4, 3e-3), (0.9, 1e-4, 3e-3, False, 0), (0.99, 1e-4, 3e-3),
+              (0.3, 2e-4, 1e-3, True)]
+data['funcG'] = [[list(a), CpmPhys.funcG(*a)] for a in G_ARGS]
+data['funcGInv'] = [[list(a), CpmPhys.funcGInv(*a)] for a in G_INV_ARGS]
 data['yieldSigmaTMagnitude'] = catch(lambda: Law2_ScGeom_CpmPhys_Cpm().yieldSigmaTMagnitude(-1e6, 0., 3.5e6, .8))
 data["defaults"] = {type(c).__name__: catch(lambda c=c: c.dict()) for c in (CpmMat(), CpmPhys(), Ip2_CpmMat_CpmMat_CpmPhys(),
                                                                Ip2_FrictMat_CpmMat_FrictPhys(),
