@@ -290,6 +290,22 @@ def test_a_cpm_body_with_a_plain_state_is_refused(yade):
     assert b.mat.stateTypeOk(b.state) and type(b.state).__name__ == "CpmState"
 
 
+def test_the_law_adds_nothing_to_the_energies(yade):
+    """As YADE's (checked with O.trackEnergy on the oblique pull of 'elasticEnergy'): a damaged, sliding CPM contact
+    adds no plastic dissipation and no elastic energy to O.energy."""
+    _pair(yade)
+    yade.O.trackEnergy = True
+    for b in yade.O.bodies:
+        b.state.blockedDOFs = "xyzXYZ"
+    yade.O.bodies[1].state.vel = (1.0, 0.5, 0.0)
+    yade.O.dt = 1e-6
+    yade.O.run(2000, True)
+    phys = yade.O.interactions[0, 1].phys
+    assert phys.omega > 0.5 and np.linalg.norm(list(phys.epsTPl)) > 0
+    energy = dict(yade.O.energy.items())
+    assert "plastDissip" not in energy and energy.get("elastPotential", 0.0) == 0.0
+
+
 def test_damage_tensor_is_refused(yade):
     with pytest.raises(NotImplementedError, match="damageTensor"):
         _ = yade.CpmState().damageTensor

@@ -50,7 +50,8 @@ YADE's increment), then sigma_N -= p. The forces on body 2 are
 -A sigma_N n and -A sigma_T (``Fn`` = A sigma_N, ``Fs`` = A sigma_T; tension positive). The relative
 residual strength is (1 - omega) kappa_D / epsilon_0 past the crack onset, 1 before it, 0 for a non-cohesive
 contact. The contact ends when epsilon_N > 0 and it is not cohesive or omega > ``omegaThreshold``; both
-bodies' ``CpmState.numBrokenCohesive`` count it (YADE counts every contact the law ends).
+bodies' ``CpmState.numBrokenCohesive`` count it (YADE counts every contact the law ends). As in YADE, the law adds
+nothing to ``O.energy`` (its elastic energy: ``Law2_ScGeom_CpmPhys_Cpm.elasticEnergy()``).
 
 YADE 2023.02a's build has the public model only: the yield surfaces other than Mohr-Coulomb
 (``yieldSurfType``, ``yieldLogSpeed``, ``yieldEllipseShift``) and the rate dependence (``dmgTau``,
@@ -74,12 +75,10 @@ import math
 import numpy as np
 
 from granum._jit import jit
-from granum.core.arrays import S_DT, SI_ITER, SI_TRACK_ENERGY
+from granum.core.arrays import S_DT, SI_ITER
 from granum.core.atomic import fetch_add
 from granum.core.bodies import CPM_IS_STATE
 from granum.core.contacts import (
-    F_E_DISSIP,
-    F_E_ELAST,
     F_FN,
     F_FS,
     F_KN,
@@ -327,15 +326,13 @@ def law_cpm(c, id1, id2, S, C, prm):
     cohesion = f[c, CPM_COHESION] * (1.0 - omega) - sigma_n * f[c, F_TANPHI]
     yield_t = cohesion if cohesion > 0.0 else 0.0   # a NaN cohesion (sigmaT not given) gives 0, as in YADE
     sigma_t_len = norm(sigma_t)
-    dissip = 0.0
     if sigma_t_len > yield_t:
         ratio = yield_t / sigma_t_len
         sigma_t = scale(sigma_t, ratio)
-        # YADE's plastic increment: (1 - ratio) sigma_T / G of the returned stress (none when the yield stress is
-        # 0), (trial - returned) ratio / G, slightly less than the stress returned
+        # YADE's plastic increment: (1 - ratio) sigma_T / G with the returned sigma_T, i.e. the stress taken off
+        # times the ratio, over G (none when the yield stress is 0)
         slip = scale(sigma_t, (1.0 - ratio) / shear)
         eps_t_pl = add(eps_t_pl, slip)
-        dissip = dot(slip, sigma_t) * f[c, CPM_CROSS_SECTION] * length
     sigma_n -= iso
     area = f[c, CPM_CROSS_SECTION]
     fn = sigma_n * area
@@ -356,14 +353,6 @@ def law_cpm(c, id1, id2, S, C, prm):
     if cohesive:
         residual = (1.0 - omega) * kappa / eps_crack if kappa > eps_crack else 1.0
     f[c, CPM_REL_RESIDUAL] = residual
-    if S.iscal[SI_TRACK_ENERGY]:
-        elastic = 0.0
-        if young > 0.0:
-            elastic += 0.5 * sigma_n * sigma_n / young
-        if shear > 0.0:
-            elastic += 0.5 * dot(sigma_t, sigma_t) / shear
-        f[c, F_E_ELAST] = elastic * area * length
-        f[c, F_E_DISSIP] = dissip
     return True
 
 
