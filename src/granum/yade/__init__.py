@@ -25,6 +25,7 @@ from future import standard_library as _standard_library
 from granum import idem
 from granum.engines.base import Engine, GlobalEngine, PartialEngine, PeriodicEngine
 from granum.engines.controllers import PeriTriaxController
+from granum.engines.cpm import CpmStateUpdater
 from granum.engines.domain import DomainLimiter
 from granum.engines.fields import (
     AxialGravityEngine,
@@ -90,7 +91,7 @@ from granum.yade import (  # noqa: F401 - the yade.X modules (_laws: the law cla
     ymport,
 )
 from granum.yade.batch import readParamsFromTable, runningInBatch, waitIfBatch
-from granum.yade.bodies import SHAPE_CLASSES, Aabb, Body, Shape, State
+from granum.yade.bodies import SHAPE_CLASSES, Aabb, Body, CpmState, Shape, State
 from granum.yade.cell import Cell
 from granum.yade.interactions import GEOM_VIEWS as _GEOMS
 from granum.yade.interactions import PHYS_VIEWS as _PHYSS
@@ -146,6 +147,7 @@ _namespace.update(
     InterpolatingDirectedForceEngine=InterpolatingDirectedForceEngine, StepDisplacer=StepDisplacer,
     DragEngine=DragEngine, LinearDragEngine=LinearDragEngine, AxialGravityEngine=AxialGravityEngine,
     CentralConstantAccelerationEngine=CentralConstantAccelerationEngine,
+    CpmStateUpdater=CpmStateUpdater, CpmState=CpmState,
     SimulationError=SimulationError, Body=Body, State=State, Shape=Shape, Aabb=Aabb, Cell=Cell,
     Interaction=Interaction, Vector2=Vector2, Vector2i=Vector2i, Vector3=Vector3,
     Vector3i=Vector3i, Vector6=Vector6, Matrix3=Matrix3, Quaternion=Quaternion,

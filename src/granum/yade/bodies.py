@@ -13,11 +13,20 @@ from __future__ import annotations
 import numpy as np
 
 from granum.core import validate
-from granum.core.bodies import DOF_ALL, dofs_from_string, dofs_to_string
+from granum.core.bodies import (
+    CPM_EPS_VOLUMETRIC,
+    CPM_IS_STATE,
+    CPM_NORM_DMG,
+    CPM_NUM_CONTACTS,
+    CPM_STRESS,
+    DOF_ALL,
+    dofs_from_string,
+    dofs_to_string,
+)
 from granum.core.contacts import C_CONTACTS, FLAG_ALIVE, I_FLAGS, I_ID1, I_ID2, end_contact
 from granum.core.scene import BodyStore, Scene
 from granum.core.shapes import ShapeKind, shape_type
-from granum.mathtypes import Quaternion, Vector3, as_quat_wxyz, as_vec3
+from granum.mathtypes import Matrix3, Quaternion, Vector3, as_quat_wxyz, as_vec3
 from granum.yade._pausing import pauses_the_run
 
 
@@ -116,6 +125,9 @@ class Body:
     # ---- parts ----------------------------------------------------------------------
     @property
     def state(self) -> State:
+        cpm = self._store.bodies.stored("cpm_state")
+        if self._row < cpm.shape[0] and cpm[self._row, CPM_IS_STATE] != 0.0:
+            return CpmState._view(self)
         return State._view(self)
 
     @state.setter
@@ -123,8 +135,10 @@ class Body:
         if not isinstance(st, State):
             raise TypeError(f"Body.state must be a State, got {st!r}")
         src = st._body
-        for name in State._columns:
+        for name in type(st)._columns:
             self._col(name)[self._row] = src._col(name)[src._row]
+        if not isinstance(st, CpmState) and self._store.bodies.allocated("cpm_state"):
+            self._col("cpm_state")[self._row] = 0.0   # a plain State now
 
     @property
     def shape(self):
@@ -398,6 +412,63 @@ class State(_View):
 
     def __repr__(self):
         return f"<State instance at {hex(id(self))}>"
+
+
+class CpmState(State):
+    """State of a body of the concrete model (YADE ``CpmState``, the state a CpmMat asks for): the per-body
+    values CpmStateUpdater computes (post-processing only; no physics reads them). numBrokenCohesive is
+    counted by Law2_ScGeom_CpmPhys_Cpm as contacts end."""
+
+    __slots__ = ()
+    _columns = State._columns + ("cpm_state", "cpm_broken")
+
+    def __init__(self, **kw):
+        super().__init__()
+        self._col("cpm_state")[self._row, CPM_IS_STATE] = 1.0
+        for k, v in kw.items():
+            setattr(self, k, v)
+
+    def _slot(self, k: int) -> float:
+        return float(self._col("cpm_state")[self._row, k])
+
+    def _set_slot(self, k: int, value) -> None:
+        self._col("cpm_state")[self._row, k] = float(value)
+
+    normDmg = property(lambda self: self._slot(CPM_NORM_DMG), lambda self, v: self._set_slot(CPM_NORM_DMG, v),
+                       doc="Average damage including the contacts already ended: 1 - relative residual strength [-]")
+    epsVolumetric = property(lambda self: self._slot(CPM_EPS_VOLUMETRIC),
+                             lambda self, v: self._set_slot(CPM_EPS_VOLUMETRIC, v),
+                             doc="Volumetric strain around the body (YADE leaves it as set) [-]")
+    numContacts = property(lambda self: int(self._slot(CPM_NUM_CONTACTS)),
+                           lambda self, v: self._set_slot(CPM_NUM_CONTACTS, int(v)),
+                           doc="Number of contacts (YADE's CpmStateUpdater leaves it as set) [-]")
+
+    @property
+    def numBrokenCohesive(self) -> int:
+        """Number of the body's contacts that the concrete law ended (broken bonds) [-]."""
+        return int(self._col("cpm_broken")[self._row])
+
+    @numBrokenCohesive.setter
+    def numBrokenCohesive(self, value) -> None:
+        self._col("cpm_broken")[self._row] = int(value)
+
+    @property
+    def stress(self):
+        """Stress of the spherical particle, for a packing fraction 0.62 (CpmStateUpdater) [Pa]."""
+        return Matrix3._wrap(self._col("cpm_state")[self._row, CPM_STRESS:CPM_STRESS + 9].reshape(3, 3))
+
+    @stress.setter
+    def stress(self, value) -> None:
+        self._col("cpm_state")[self._row, CPM_STRESS:CPM_STRESS + 9] = np.asarray(value, float).reshape(9)
+
+    @property
+    def damageTensor(self):
+        """YADE's microplane damage tensor: not computed by granum (YADE 2023.02a's values are not
+        reproducible)."""
+        raise NotImplementedError("CpmState.damageTensor is not implemented in granum")
+
+    def __repr__(self):
+        return f"<CpmState instance at {hex(id(self))}>"
 
 
 class Aabb(_View):
@@ -708,8 +779,6 @@ class BodyContainer:
             raise ValueError(f"O.bodies.append: this body is already in a simulation (id {b._row}); "
                              f"create a new body instead of appending it twice")
         src, row = b._store, b._row
-        if src.bodies.shape_kind[row] == ShapeKind.NONE:
-            raise ValueError("O.bodies.append: the body has no shape")
         i = scene.add_body_row()
         scene.bodies.copy_row(src.bodies, row, i)
         kind, table, srow = src.shape_table(row)

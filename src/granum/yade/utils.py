@@ -36,7 +36,7 @@ from granum.core.shapes import ShapeKind, shape_type
 from granum.engines import interrupts
 from granum.mathtypes import Matrix3, Quaternion, Vector3, as_quat_wxyz, as_vec3
 from granum.yade.batch import readParamsFromTable
-from granum.yade.bodies import Body, Box, Facet, Sphere, Wall
+from granum.yade.bodies import Body, Box, Facet, Sphere, State, Wall
 from granum.yade.cell import det3
 from granum.yade.clump_tools import clumpTemplate
 from granum.yade.materials import Material, default_material
@@ -98,6 +98,8 @@ def _body(factory, shape, center, material, fixed, dynamic, mask, orientation=No
     fixed, dynamic = _flags(factory, fixed=fixed, dynamic=dynamic).values()
     center = _vec3(center, f"{factory}: center")
     b = Body(shape=shape, material=_material(material), mask=as_integer(mask, f"{factory}: mask"))
+    if b.material.state_class() is not State:   # the material needs its own state class (CpmMat: CpmState)
+        b.state = b.material.newAssocState()
     st = b.state
     mass = shape_type(shape.kind).mass
     if mass is not None:
