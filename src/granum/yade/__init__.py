@@ -54,6 +54,7 @@ from granum.engines.timestepper import GlobalStiffnessTimeStepper, TimeStepper
 from granum.engines.triaxial import TriaxialStressController
 from granum.idem import IDEMSolver
 from granum.mathtypes import Matrix3, Quaternion, Vector2, Vector2i, Vector3, Vector3i, Vector6
+from granum.physics.matchmaker import MatchMaker
 from granum.yade import (  # noqa: F401 - the yade.X modules (_laws: the law classes' accumulators and counts)
     _laws,
     bodiesHandling,
@@ -123,7 +124,7 @@ _namespace.update(
     TriaxialStateRecorder=TriaxialStateRecorder,
     ForceEngine=ForceEngine, TranslationEngine=TranslationEngine, RotationEngine=RotationEngine,
     KinematicEngine=KinematicEngine, HelixEngine=HelixEngine, CombinedKinematicEngine=CombinedKinematicEngine,
-    ParallelEngine=ParallelEngine,
+    ParallelEngine=ParallelEngine, MatchMaker=MatchMaker,
     SimulationError=SimulationError, Body=Body, State=State, Shape=Shape, Aabb=Aabb, Cell=Cell,
     Interaction=Interaction, Vector2=Vector2, Vector2i=Vector2i, Vector3=Vector3,
     Vector3i=Vector3i, Vector6=Vector6, Matrix3=Matrix3, Quaternion=Quaternion,

@@ -57,7 +57,8 @@ def find_contact(C, a: int, b: int) -> int:
 
 class _ContactView:
     """Attributes mapped onto float columns of one contact row (see TypeInfo.fields): a float (width 1; a
-    ``(column, 1, "bool")`` field reads as a bool), a Vector3 (3), a Quaternion (4, w x y z) or a Matrix3 (9)."""
+    ``(column, 1, "bool")`` field reads as a bool, ``(column, 1, "int")`` as an int), a Vector3 (3), a Quaternion
+    (4, w x y z) or a Matrix3 (9)."""
 
     __slots__ = ("_intr",)
     _fields: dict = {}
@@ -75,7 +76,8 @@ class _ContactView:
         row = self._intr._row_or_raise()
         a = self._intr._scene.contacts.con_f
         if width == 1:
-            return bool(a[row, col]) if f[2:] == ("bool",) else float(a[row, col])
+            kind = {("bool",): bool, ("int",): int}.get(tuple(f[2:]), float)
+            return kind(a[row, col])
         if width == 9:
             return Matrix3._wrap(a[row, col:col + 9].reshape(3, 3))
         if width == 4:
