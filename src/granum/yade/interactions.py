@@ -97,7 +97,8 @@ def _holds(C, row: int, a: int, b: int) -> bool:
 class _ContactView:
     """Attributes mapped onto float columns of one contact row (see TypeInfo.fields): a float (width 1; a
     ``(column, 1, "bool")`` field reads as a bool, ``(column, 1, "int")`` as an int), a Vector3 (3), a Quaternion
-    (4, w x y z) or a Matrix3 (9). Each field is a property of the generated class (``add_views``): reading one costs O(1)."""
+    (4, w x y z) or a Matrix3 (9). Each field is a property of the generated class (``add_views``): reading one
+    costs O(1)."""
 
     __slots__ = ("_intr",)
     _fields: dict = {}

@@ -6,6 +6,8 @@
 #    overlap 1e-5, density 2000) of two materials, with and without MatchMakers for the Ip2 parameters;
 #    a sphere on a facet (ViscEl, massless facet).
 # 3. matchmaker: MatchMaker called from Python (matches, algos, computeFallback, errors).
+# 4. flat_facet_box: geom.facetBox with one zero extent (rotated, wallMask 12): the facets' pos, local vertices,
+#    normal; two zero extents: the error.
 # Cases that abort YADE (an uncaught C++ exception) are not run here: mRtype differing between the two
 # materials, and a MatchMaker without a match whose algo needs values the Ip2 does not supply (ViscElPhys tc,
 # en, et, frictAngle; CohFrictPhys normalCohesion, shearCohesion; MindlinPhys en, es, betan, betas).
@@ -161,4 +163,10 @@ M['default_dict'] = catch(lambda: MatchMaker().dict())
 M['ip2_defaults'] = {n: catch(lambda: globals()[n]().dict()) for n in (
     'Ip2_FrictMat_FrictMat_FrictPhys', 'Ip2_ViscElMat_ViscElMat_ViscElPhys', 'Ip2_CohFrictMat_CohFrictMat_CohFrictPhys',
     'Ip2_FrictMat_FrictMat_MindlinPhys')}
+# 4. geom.facetBox with a zero extent (rotationalResistance.py's inclined planes): one rectangle
+FB = out['flat_facet_box'] = {}
+for e in ((1, 2, 0), (0, 2, 1), (1, 0, 1)):
+    fs = geom.facetBox((0.1, 0.2, 0.3), e, orientation=Quaternion(Vector3(1, 0, 0), 0.3), wallMask=12)
+    FB[str(e)] = [tojson(dict(pos=f.state.pos, vertices=list(f.shape.vertices), normal=f.shape.normal)) for f in fs]
+FB['two_zero'] = catch(lambda: geom.facetBox((0, 0, 0), (1, 0, 0)))
 dump('viscel_pairs', out)
