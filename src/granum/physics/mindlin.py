@@ -60,6 +60,7 @@ from granum.core.contacts import (
     F_R2,
     F_TANPHI,
     register_history,
+    register_totals,
 )
 from granum.physics import materials, registry
 from granum.physics.frict import FRICTION_ANGLE, M_FRICTION, pair_friction
@@ -103,6 +104,8 @@ F_MAX_BEND = F_MINDLIN + 29     # maxBendPl: eta (R1 + R2)/2, the plastic bendin
 F_MOMENT_BEND = F_MINDLIN + 30  # 30..32 momentBend: bending moment on body 2 [N m]
 F_MOMENT_TWIST = F_MINDLIN + 33  # 33..35 momentTwist: twisting moment on body 2 [N m]
 F_MINDLIN_END = F_MINDLIN + 36
+#: the law's accumulators keep the shares of ended contacts (YADE 2023.02a's, checked)
+register_totals("mindlin", F_FRICT_DISSIP, 4)
 #: the Mindlin columns, and the contact moment the force gather adds (includeMoment)
 HISTORY = ("mindlin", "moment")
 
