@@ -15,7 +15,9 @@ kn, ks as FrictPhys (:func:`granum.physics.frict.phys_frict`, both from the mate
 and, when the contact is made cohesive (both materials ``isCohesive``; at creation with
 ``setCohesionOnNewContacts``, at the step ``setCohesionNow`` acts, or for a contact whose
 ``initCohesion`` is set), a_n = min(C_n1, C_n2) min(r1, r2)^2, a_s = min(C_s1, C_s2) min(r1, r2)^2,
-``fragile`` = fragile1 or fragile2, and the ScGeom6D rotations start from then.
+``fragile`` = fragile1 or fragile2, and the ScGeom6D rotations start from then. The Ip2's MatchMakers
+``normalCohesion``, ``shearCohesion`` (no values supplied, as YADE) replace min(C_1, C_2), and ``frictAngle``
+(combining the materials' angles) the smaller angle.
 
 **Law** (Law2_ScGeom6D_CohFrictPhys_CohesionMoment), forces on body 2, u_n the penetration depth, u_n^p its
 plastic part (``unp``):
