@@ -154,7 +154,8 @@ FAILURES = {k: v for k, v in vars(contacts).items() if k.startswith("STATUS_") a
 #: what each status's message must say
 SAYS = {"STATUS_NO_PHYS": "no IPhys functor", "STATUS_NO_LAW": "no Law2 functor",
         "STATUS_NONFINITE": "non-finite or exploding state", "STATUS_NO_GEOM": "no IGeom functor",
-        "STATUS_TOO_LARGE": "spans over half of the periodic cell"}
+        "STATUS_TOO_LARGE": "spans over half of the periodic cell",
+        "STATUS_NO_PAIR_VALUE": "has no value for the materials of bodies 0 and 1"}
 
 
 def test_every_status_has_its_own_message(yade):
