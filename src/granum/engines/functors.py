@@ -32,7 +32,7 @@ class Functor(Attributed):
 
     def numeric_params(self) -> list[float]:
         """The functor's numeric parameters in registry order (booleans as 0/1), a MatchMaker as the offset
-        of its table (-1: None), then the MatchMakers' tables (:mod:`granum.physics.matchmaker`)."""
+        of its table (0: None), then the MatchMakers' tables (:mod:`granum.physics.matchmaker`)."""
         compiled = self.spec.compiled_params()
         for p in self.spec.params:
             value = getattr(self, p.name)
@@ -45,7 +45,7 @@ class Functor(Attributed):
             if not p.matchmaker:
                 values[k] = float(getattr(self, p.name))
             elif getattr(self, p.name) is None:
-                values[k] = -1.0
+                values[k] = 0.0   # a table's offset is never 0: it follows the parameters
             else:
                 values[k] = float(len(compiled) + len(tables))
                 tables += self._pair_tables[p.name]

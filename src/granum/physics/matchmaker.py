@@ -13,11 +13,11 @@ stops with an uncaught C++ exception, granum stops the run naming the parameter 
 (:func:`pair_value` returns NaN and the functor sets ``STATUS_NO_PAIR_VALUE``).
 
 Compiled code reads a MatchMaker as a table in the functor's parameter row ``prm`` (no Python call in the
-step loop): the parameter's own slot holds the offset of its table, or -1 when the parameter is not given
-(None, the functor's own rule applies); the table is ``[M, algo code, val, v(0,0), v(0,1), ...]``, M the
-number of the scene's material rows (``S.material`` indexes them) and ``v(a, b)`` the matched value of rows
-a, b (NaN: no match). The functor's Python side builds the tables from the scene's materials before each
-run (:meth:`granum.engines.functors.Functor.prepare`).
+step loop): the parameter's own slot holds the offset of its table (> 0, after the parameters), or 0 when the
+parameter is not given (None, the functor's own rule applies; a row of zeros gives none). The table is
+``[M, algo code, val, v(0,0), v(0,1), ...]``, M the number of the scene's material rows (``S.material``
+indexes them) and ``v(a, b)`` the matched value of rows a, b (NaN: no match). The functor's Python side
+builds the tables from the scene's materials before each run (:meth:`granum.engines.functors.Functor.prepare`).
 
 Reference: YADE class reference, MatchMaker; behaviour checked against YADE 2023.02a
 (tests/reference/yade/viscel_pairs.py).
@@ -59,7 +59,7 @@ def algo_value(code, val, v1, v2):
 @jit
 def given(prm, slot):
     """Whether the MatchMaker parameter at ``slot`` of ``prm`` is given (not None)."""
-    return prm[slot] >= 0.0
+    return prm[slot] > 0.0
 
 
 @jit
