@@ -73,6 +73,14 @@ BODY_COLUMNS = (
 )
 
 
+#: When each body of a scene was appended (YADE's ``Body.iterBorn``/``timeBorn``); a table of its own,
+#: beside the body table, because no kernel reads it (the kernels' record stays as it is).
+BORN_COLUMNS = (
+    Column("iter", (), "i8", -1, "Step (O.iter) at which the body was appended, -1 if never, (N,)."),
+    Column("time", (), "f8", -1.0, "Simulated time (O.time) at which the body was appended [s], -1 if never, (N,)."),
+)
+
+
 def new_body_table(capacity: int = 8) -> Table:
     """An empty body table (see :data:`BODY_COLUMNS` for the columns)."""
     return Table(BODY_COLUMNS, capacity)

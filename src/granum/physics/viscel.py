@@ -5,7 +5,7 @@ friction. Parameters come either from a contact time ``tc`` and restitution coef
 ``en`` (normal), ``et`` (tangential), or directly (``kn``, ``cn``, ``ks``, ``cs``). In the first
 form the contact's tc, en, et are the Ip2's MatchMakers when given, else the means of the two
 materials' values, and with the reduced mass m = m1 m2 / (m1 + m2) (a massless body, a facet,
-counts with the other body's mass):
+counts with the other body's mass: tests/reference/yade/viscel_facet.py):
 
 .. math::
     k_n = m\\,\\frac{\\pi^2 + \\ln^2 e_n}{t_c^2},\\quad c_n = -\\frac{2 m \\ln e_n}{t_c},\\quad

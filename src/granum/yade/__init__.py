@@ -25,14 +25,29 @@ from future import standard_library as _standard_library
 from granum import idem
 from granum.engines.base import Engine, GlobalEngine, PartialEngine, PeriodicEngine
 from granum.engines.controllers import PeriTriaxController
+from granum.engines.domain import DomainLimiter
+from granum.engines.fields import (
+    AxialGravityEngine,
+    CentralConstantAccelerationEngine,
+    DragEngine,
+    ForceEngine,
+    InterpolatingDirectedForceEngine,
+    LinearDragEngine,
+    StepDisplacer,
+    TorqueEngine,
+)
 from granum.engines.functors import CLASSES as _FUNCTORS
 from granum.engines.functors import BoundFunctor, Functor, IGeomFunctor, IPhysFunctor, LawFunctor
 from granum.engines.kinematic import (
+    BicyclePedalEngine,
     CombinedKinematicEngine,
-    ForceEngine,
+    HarmonicMotionEngine,
+    HarmonicRotationEngine,
     HelixEngine,
+    InterpolatingHelixEngine,
     KinematicEngine,
     RotationEngine,
+    ServoPIDController,
     TranslationEngine,
 )
 from granum.engines.parallel import ParallelEngine
@@ -61,6 +76,7 @@ from granum.yade import (  # noqa: F401 - the yade.X modules (_laws: the law cla
     config,
     export,
     geom,
+    gts,
     libVersions,
     linterpolation,
     log,
@@ -124,12 +140,19 @@ _namespace.update(
     TriaxialStateRecorder=TriaxialStateRecorder,
     ForceEngine=ForceEngine, TranslationEngine=TranslationEngine, RotationEngine=RotationEngine,
     KinematicEngine=KinematicEngine, HelixEngine=HelixEngine, CombinedKinematicEngine=CombinedKinematicEngine,
-    ParallelEngine=ParallelEngine, MatchMaker=MatchMaker,
+    DomainLimiter=DomainLimiter, MatchMaker=MatchMaker,
+    ParallelEngine=ParallelEngine, HarmonicMotionEngine=HarmonicMotionEngine,
+    HarmonicRotationEngine=HarmonicRotationEngine, InterpolatingHelixEngine=InterpolatingHelixEngine,
+    BicyclePedalEngine=BicyclePedalEngine, ServoPIDController=ServoPIDController, TorqueEngine=TorqueEngine,
+    InterpolatingDirectedForceEngine=InterpolatingDirectedForceEngine, StepDisplacer=StepDisplacer,
+    DragEngine=DragEngine, LinearDragEngine=LinearDragEngine, AxialGravityEngine=AxialGravityEngine,
+    CentralConstantAccelerationEngine=CentralConstantAccelerationEngine,
     SimulationError=SimulationError, Body=Body, State=State, Shape=Shape, Aabb=Aabb, Cell=Cell,
     Interaction=Interaction, Vector2=Vector2, Vector2i=Vector2i, Vector3=Vector3,
     Vector3i=Vector3i, Vector6=Vector6, Matrix3=Matrix3, Quaternion=Quaternion,
     readParamsFromTable=readParamsFromTable, waitIfBatch=waitIfBatch, runningInBatch=runningInBatch,
     utils=utils, geom=geom, pack=pack, plot=plot, qt=qt, timing=timing, ymport=ymport, export=export,
+    gts=gts,  # PyGTS: YADE's scripts find it without importing
 )
 #: YADE's command-line options as its launcher parses them (``opts.threads``...); granum's launcher fills in
 #: ``threads``, ``script`` and ``args``

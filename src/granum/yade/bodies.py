@@ -215,6 +215,16 @@ class Body:
             self._col("ang_mom")[self._row] = r @ (self._col("inertia")[self._row] * (r.T @ w))
 
     @property
+    def iterBorn(self) -> int:
+        """Step (``O.iter``) at which the body was appended; -1 for a body not in a simulation."""
+        return int(self._store.born.iter[self._row]) if self._attached() else -1
+
+    @property
+    def timeBorn(self) -> float:
+        """Simulated time (``O.time``) at which the body was appended [s]; -1 for a body not in a simulation."""
+        return float(self._store.born.time[self._row]) if self._attached() else -1.0
+
+    @property
     def clumpId(self) -> int:
         return int(self._col("clump_id")[self._row])
 
@@ -602,7 +612,8 @@ class Clump(Shape):
 
     @property
     def members(self) -> dict:
-        """Member ids and their offsets in the clump frame: ``{id: (Vector3, Quaternion)}``."""
+        """Member ids and their offsets in the clump frame: ``{id: (Vector3, Quaternion)}``, by increasing id
+        (YADE keeps members in a map by id)."""
         from granum.yade.clumps import clump_members
 
         b = self._body
@@ -610,7 +621,7 @@ class Clump(Shape):
             return {}
         bt = b._store.bodies
         return {i: (Vector3(*bt.clump_rel_pos[i]), Quaternion(*bt.clump_rel_ori[i]))
-                for i in clump_members(b._store, b._row)}
+                for i in sorted(clump_members(b._store, b._row))}
 
     @property
     def ids(self) -> list:
@@ -720,11 +731,23 @@ class BodyContainer:
 
     @pauses_the_run
     def erase(self, i: int, eraseClumpMembers: bool = False) -> bool:
-        """Remove body ``i`` and its interactions (its id is not reused)."""
+        """Remove body ``i`` and its interactions (its id is not reused). A clump's members become
+        standalone, or are erased too with ``eraseClumpMembers``; an erased member leaves its clump,
+        whose mass properties are computed again (granum.yade.clump_edits)."""
         i = self._check(i)
         scene = self._scene
         if not scene.bodies.alive[i]:
             return False
+        if scene.bodies.shape_kind[i] == ShapeKind.CLUMP:
+            from granum.yade.clump_edits import dissolve
+
+            for m in dissolve(scene, i):
+                if eraseClumpMembers:
+                    self.erase(m)
+        elif scene.bodies.clump_id[i] >= 0:
+            from granum.yade.clump_edits import erase_member
+
+            erase_member(scene, i)
         scene.bodies.alive[i] = False
         C = scene.contacts
         n = int(C.ctr[C_CONTACTS])
@@ -750,6 +773,49 @@ class BodyContainer:
         """Append ``bodies`` and clump them: ``(clumpId, [member ids])``."""
         ids = self.append(list(bodies))
         return self.clump(ids, discretization), ids
+
+    @pauses_the_run
+    def addToClump(self, ids, clumpId: int, discretization: int = 0) -> None:
+        """Add bodies ``ids`` (a list; a clump or a member of one brings all that clump's members)
+        to clump ``clumpId`` and compute its mass properties again."""
+        from granum.yade.clump_edits import add_to_clump
+
+        add_to_clump(self._scene, ids, clumpId, int(discretization))
+
+    @pauses_the_run
+    def releaseFromClump(self, bid: int, cid: int, discretization: int = 0) -> None:
+        """Make member ``bid`` of clump ``cid`` standalone and compute the clump again (a clump of
+        two members is left alone, with a warning)."""
+        from granum.yade.clump_edits import release_from_clump
+
+        release_from_clump(self._scene, bid, cid, int(discretization))
+
+    @pauses_the_run
+    def updateClumpProperties(self, excludeList=[], discretization: int = 5) -> None:  # noqa: B006 (YADE's default)
+        """Compute the mass properties of every clump not in ``excludeList`` again."""
+        from granum.yade.clump_edits import update_clump_properties
+
+        update_clump_properties(self._scene, excludeList, int(discretization))
+
+    @pauses_the_run
+    def deleteClumpMember(self, clumpBody, memberBody) -> None:
+        """Erase clump member ``memberBody`` of ``clumpBody``; the clump is computed again."""
+        from granum.yade.clump_edits import delete_clump_member
+
+        delete_clump_member(self, clumpBody, memberBody)
+
+    @pauses_the_run
+    def deleteClumpBody(self, clumpBody) -> None:
+        """Erase clump ``clumpBody`` and its members."""
+        from granum.yade.clump_edits import delete_clump_body
+
+        delete_clump_body(self, clumpBody)
+
+    def getRoundness(self, excludeList=[]) -> float:  # noqa: B006 (YADE's default)
+        """Mean roundness R1/R2 of the clumps and standalone spheres not in ``excludeList``."""
+        from granum.yade.clump_edits import roundness
+
+        return roundness(self._scene, excludeList)
 
     @pauses_the_run
     def replaceByClumps(self, templates, amounts, discretization: int = 0) -> list:
