@@ -13,7 +13,10 @@
 # BENCH_LAW=cpm: the concrete particle model, CpmMat(young=1e8, poisson=0.3, frictionAngle=30 deg,
 # density=2600, sigmaT=3e4, epsCrackOnset=1e-4, relDuctility=30) for the spheres, FrictMat for the box,
 # Ip2_CpmMat_CpmMat_CpmPhys (the contacts of the first steps are cohesive), Ip2_FrictMat_CpmMat_FrictPhys,
-# Law2_ScGeom_CpmPhys_Cpm and Cundall-Strack for the box),
+# Law2_ScGeom_CpmPhys_Cpm and Cundall-Strack for the box);
+# BENCH_LAW=viscel_rolling: the visco-elastic law with rolling resistance, ViscElMat with the same density and
+# friction, tc=1e-3, en=.5, et=.5, mR=.05, mRtype=2, Ip2_ViscElMat_ViscElMat_ViscElPhys and
+# Law2_ScGeom_ViscElPhys_Basic),
 # NewtonIntegrator(damping=0.2, gravity -z), O.dt = 0.5*PWaveTimeStep().
 # At n = 20: 8,000 spheres and about 25,000 contacts (3 n^2 (n-1) sphere-sphere + walls).
 #
@@ -23,7 +26,8 @@
 # write the sphere positions and angular velocities to path (one line "x y z wx wy wz" per
 # sphere, %.17g) to check bitwise determinism across thread counts and runs. BENCH_NAME overrides
 # the name printed (benchmarks/run uses scaling_N, dense_lattice_mindlin, cohesive_lattice).
-# BENCH_LAW: the contact law (mindlin, cohesive, cpm; user: Cundall-Strack as a user's law, granum only).
+# BENCH_LAW: the contact law (mindlin, cohesive, cpm, viscel_rolling; user: Cundall-Strack as a user's law,
+# granum only).
 # Prints one line:  BENCH name=dense_lattice ...
 
 import os
@@ -47,6 +51,9 @@ if LAW == 'cohesive':
     mat = O.materials.append(CohFrictMat(young=1e8, poisson=0.3, frictionAngle=radians(30), density=2600,
                                          normalCohesion=1e6, shearCohesion=1e6, momentRotationLaw=True,
                                          etaRoll=0.1, etaTwist=0.1))
+elif LAW == 'viscel_rolling':
+    mat = O.materials.append(ViscElMat(young=1e8, poisson=0.3, frictionAngle=radians(30), density=2600, tc=1e-3,
+                                       en=0.5, et=0.5, mR=0.05, mRtype=2))
 else:
     mat = O.materials.append(FrictMat(young=1e8, poisson=0.3, frictionAngle=radians(30), density=2600))
 wallMat = mat
@@ -77,6 +84,8 @@ elif LAW == 'cohesive':  # cohesion with bending and twisting moments (granum an
     geoms = [Ig2_Sphere_Sphere_ScGeom6D(), Ig2_Facet_Sphere_ScGeom6D()]
     ip2 = Ip2_CohFrictMat_CohFrictMat_CohFrictPhys(setCohesionNow=True)
     law = Law2_ScGeom6D_CohFrictPhys_CohesionMoment(useIncrementalForm=True)
+elif LAW == 'viscel_rolling':  # visco-elastic with rolling resistance (granum and YADE)
+    ip2, law = Ip2_ViscElMat_ViscElMat_ViscElPhys(), Law2_ScGeom_ViscElPhys_Basic()
 
 O.engines = [
     ForceResetter(),

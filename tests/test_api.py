@@ -101,6 +101,22 @@ def test_aabb_walls_and_facet_box_match_yade(yade):
     assert len(yade.geom.facetBox((0, 0, 0), (1, 2, 3))) == ref["facetBox((0,0,0),(1,2,3)) default wallMask n_facets"]
 
 
+def test_a_flat_facet_box_is_one_rectangle_as_in_yade(yade):
+    """geom.facetBox with one zero extent (YADE's rotationalResistance.py): the two facets of one face, whatever
+    wallMask, normal along the flat axis; two zero extents are refused."""
+    ref = reference("viscel_pairs")["flat_facet_box"]
+    for e in ((1, 2, 0), (0, 2, 1), (1, 0, 1)):
+        facets = yade.geom.facetBox((0.1, 0.2, 0.3), e, orientation=yade.Quaternion(yade.Vector3(1, 0, 0), 0.3),
+                                    wallMask=12)
+        assert len(facets) == len(ref[str(e)])
+        for f, r in zip(facets, ref[str(e)], strict=True):
+            np.testing.assert_allclose(np.asarray(f.state.pos), r["pos"], atol=1e-15)
+            np.testing.assert_allclose([np.asarray(v) for v in f.shape.vertices], r["vertices"], atol=1e-15)
+            np.testing.assert_allclose(np.asarray(f.shape.normal), r["normal"], atol=1e-15)
+    with pytest.raises(ValueError, match=r"at least two extents must be nonzero, got extents=\(1.0, 0.0, 0.0\)"):
+        yade.geom.facetBox((0, 0, 0), (1, 0, 0))
+
+
 def test_state_views_write_into_the_scene(yade):
     """b.state.pos/vel and shape attributes read and write the storage, also through components."""
     b = yade.sphere((0, 0, 0), 1)

@@ -358,9 +358,7 @@ def test_every_value_of_yades_examples_is_accepted(yade):
                                                    label="cohesiveLaw")
 
 
-@pytest.mark.parametrize("functor, kw", [("Ip2_CohFrictMat_CohFrictMat_CohFrictPhys", dict(normalCohesion=1e5)),
-                                         ("Ip2_CohFrictMat_CohFrictMat_CohFrictPhys", dict(frictAngle=0.3)),
-                                         ("Law2_ScGeom6D_CohFrictPhys_CohesionMoment", dict(twist_creep=True)),
+@pytest.mark.parametrize("functor, kw", [("Law2_ScGeom6D_CohFrictPhys_CohesionMoment", dict(twist_creep=True)),
                                          ("Ig2_Sphere_Sphere_ScGeom6D", dict(creep=True))])
 def test_unimplemented_values_are_refused_naming_them(yade, functor, kw):
     funcs = {"geom": [yade.Ig2_Sphere_Sphere_ScGeom6D()], "phys": [yade.Ip2_CohFrictMat_CohFrictMat_CohFrictPhys()],

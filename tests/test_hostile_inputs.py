@@ -154,7 +154,8 @@ FAILURES = {k: v for k, v in vars(contacts).items() if k.startswith("STATUS_") a
 #: what each status's message must say
 SAYS = {"STATUS_NO_PHYS": "no IPhys functor", "STATUS_NO_LAW": "no Law2 functor",
         "STATUS_NONFINITE": "non-finite or exploding state", "STATUS_NO_GEOM": "no IGeom functor",
-        "STATUS_TOO_LARGE": "spans over half of the periodic cell"}
+        "STATUS_TOO_LARGE": "spans over half of the periodic cell",
+        "STATUS_NO_PAIR_VALUE": "has no value for the materials of bodies 0 and 1"}
 
 
 def test_every_status_has_its_own_message(yade):
@@ -216,26 +217,3 @@ def test_non_finite_stiffness_is_named_not_the_time_step(yade):
     yade.O.dt = 1e-6
     text = _run_to_failure(yade, r"non-finite stiffness \(kn=nan.*ViscElMat, ViscElMat")
     assert "O.dt" not in text
-
-
-@pytest.mark.parametrize("ip2, attr, value", [
-    ("Ip2_FrictMat_FrictMat_FrictPhys", "frictAngle", 0.1),
-    ("Ip2_FrictMat_FrictMat_FrictPhys", "kn", 1e5),
-    ("Ip2_ViscElMat_ViscElMat_ViscElPhys", "en", 0.5),
-    ("Ip2_ViscElMat_ViscElMat_ViscElPhys", "tc", 1e-3),
-])
-def test_per_material_pair_values_are_refused_not_ignored(yade, ip2, attr, value):
-    """The MatchMaker arguments of the Ip2 functors would change the contacts' constants; granum does not
-    implement them, so a run refuses them by name (they were silently ignored: frictAngle=0.1 gave tan(0.5))."""
-    mat = yade.FrictMat() if ip2.startswith("Ip2_FrictMat") else yade.ViscElMat(tc=1e-3, en=0.5, et=0.5)
-    m = yade.O.materials.append(mat)
-    yade.O.bodies.append([yade.sphere((0, 0, 0), 1, fixed=True, material=m), yade.sphere((0, 0, 1.99), 1, material=m)])
-    law = "Law2_ScGeom_FrictPhys_CundallStrack" if ip2.startswith("Ip2_FrictMat") else "Law2_ScGeom_ViscElPhys_Basic"
-    yade.O.engines = [yade.ForceResetter(), yade.InsertionSortCollider([yade.Bo1_Sphere_Aabb()]),
-                      yade.InteractionLoop([yade.Ig2_Sphere_Sphere_ScGeom()], [getattr(yade, ip2)(**{attr: value})],
-                                           [getattr(yade, law)()]),
-                      yade.NewtonIntegrator()]
-    yade.O.dt = 1e-6
-    with pytest.raises(NotImplementedError, match=f"{ip2}.{attr}={value!r} is not supported"):
-        yade.O.step()
-    assert yade.O.iter == 0 and yade.O.interactions.countReal() == 0

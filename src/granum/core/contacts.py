@@ -33,6 +33,10 @@ potential pairs are never real, so granum keeps them apart:
     results do not depend on the number of threads.
 ``ctr``  (NCTR,) int64
     Counters and status flags (``C_*`` constants).
+``ended``  (NF,) float64
+    Per ``con_f`` column, the sums over the contacts that ended of the columns that are running totals
+    outliving their contact (:func:`register_totals`: YADE's law accumulators such as Hertz-Mindlin's
+    ``frictionDissipation``); 0 in the other columns.
 
 Contacts are appended in the order their pairs became real (pair order within a
 step) and removed by stable compaction, so the pool order is deterministic.
@@ -102,6 +106,30 @@ def register_history(name: str, width: int, after: tuple[str, ...] = ()) -> int:
     return offset
 
 
+#: Columns of history groups that are running totals a law keeps after a contact ends, group -> (first, count)
+TOTALS: dict[str, tuple[int, int]] = {}
+
+
+def register_totals(group: str, first: int, count: int) -> None:
+    """Declare the columns ``first .. first + count - 1`` of the history group ``group`` running totals that
+    outlive their contact: when a contact whose law uses the group ends (in a step or erased from Python), they
+    are added to ``ended`` (module docstring), so that the law's accumulator, the live contacts' sum plus
+    ``ended``, keeps the share of ended contacts (YADE's)."""
+    offset, width = HISTORY_COLUMNS[group]
+    if not (offset <= first and first + count <= offset + width):
+        raise ValueError(f"totals {first}..{first + count - 1} lie outside the group {group!r}")
+    TOTALS[group] = (first, count)
+
+
+def retire_totals(C, c: int, groups) -> None:
+    """Add the running totals of contact ``c`` (its law's history ``groups``) to ``ended``, in Python (an
+    interaction or body erased by a script); compiled code does the same for contacts a law ends."""
+    for g in groups:
+        if g in TOTALS:
+            first, count = TOTALS[g]
+            C.ended[first:first + count] += C.con_f[c, first:first + count]
+
+
 def shared_columns(groups) -> tuple[str, str] | None:
     """Two of the history groups ``groups`` that share a column (see :func:`register_history`), or None."""
     spans = sorted((HISTORY_COLUMNS[g][0], HISTORY_COLUMNS[g][0] + HISTORY_COLUMNS[g][1], g) for g in set(groups))
@@ -152,12 +180,13 @@ STATUS_NO_LAW = 2       # no law functor for a geometry/physics pair (ERR_A, ERR
 STATUS_NONFINITE = 3    # NaN/inf or exploding velocity (ERR_A: body id)
 STATUS_NO_GEOM = 4      # bounds of two bodies overlap, a geometry functor exists but is not listed
 STATUS_TOO_LARGE = 5    # a body is wider than half the periodic cell (ERR_A: body id)
+STATUS_NO_PAIR_VALUE = 6  # an Ip2 functor has no value for the materials of a new contact (ERR_A, ERR_B: body ids)
 
 #: Record of the interaction storage passed to kernels (see the module docstring).
 CONTACTS = RecordSpec("ContactArrays", [
     ("pair_ids", "i4", 2), ("pair_cell", "i4", 2), ("pair_con", "i4", 1), ("pair_gap", "f4", 1), ("pair_hit", "u1", 1),
     ("con_i", "i4", 2),
-    ("con_f", "f8", 2), ("csr_start", "i4", 1), ("csr_con", "i4", 1), ("ctr", "i8", 1)])
+    ("con_f", "f8", 2), ("csr_start", "i4", 1), ("csr_con", "i4", 1), ("ctr", "i8", 1), ("ended", "f8", 1)])
 ContactArrays = CONTACTS.tuple
 
 
@@ -179,6 +208,7 @@ def new_contact_arrays(n_bodies: int, pair_capacity: int = 64, contact_capacity:
         csr_start=np.zeros(n_bodies + 1, np.int32),
         csr_con=np.zeros(2 * contact_capacity, np.int32),
         ctr=ctr,
+        ended=np.zeros(NF_CORE),
     )
 
 
@@ -199,12 +229,13 @@ def resize_for_bodies(C: ContactArrays, n_bodies: int) -> ContactArrays:
     return C._replace(csr_start=np.zeros(n_bodies + 1, np.int32))
 
 
-def end_contact(C: ContactArrays, c: int) -> None:
+def end_contact(C: ContactArrays, c: int, groups=()) -> None:
     """End live contact ``c`` from Python (body erased, interaction erased by the user).
 
     The row is unlinked from its pair and left for compaction, exactly as when a law
-    ends a contact inside a step.
+    ends a contact inside a step; its running totals (its law's history ``groups``) go to ``ended``.
     """
+    retire_totals(C, c, groups)
     C.con_i[c, I_FLAGS] &= ~FLAG_ALIVE
     p = C.con_i[c, I_PAIR]
     if p >= 0:

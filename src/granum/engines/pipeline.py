@@ -13,7 +13,7 @@ import functools
 import numpy as np
 
 from granum.core.attrs import Attr, instance_of, only_default, to_bool, to_float, to_int
-from granum.core.contacts import contact_width, shared_columns
+from granum.core.contacts import TOTALS, contact_width, shared_columns
 from granum.core.shapes import ShapeKind
 from granum.engines.base import GlobalEngine
 from granum.engines.functors import check_role, functor_table
@@ -172,6 +172,17 @@ class InsertionSortCollider(GlobalEngine):
                               cell=Static(("cell", bool(scene.periodic))))
 
 
+def law_totals() -> np.ndarray:
+    """Per Law2 functor code, the running totals its contacts keep after ending: (first column, count)
+    (:attr:`granum.kernels.interaction.InteractionParams.law_totals`), (law functors, 2) int64."""
+    out = np.zeros((len(functors("law")), 2), np.int64)
+    for code, spec in enumerate(functors("law")):
+        for g in spec.history:
+            if g in TOTALS:
+                out[code] = TOTALS[g]
+    return out
+
+
 class InteractionLoop(GlobalEngine):
     """For every interaction: geometry (Ig2), physics once (Ip2), then the law (Law2).
 
@@ -220,7 +231,7 @@ class InteractionLoop(GlobalEngine):
             phys_tab=functor_table("phys", self.physDispatcher.functors, scene.contact_functors("phys")),
             phys_type=t["phys_type"], law_code=t["law_code"],
             law_tab=functor_table("law", self.lawDispatcher.functors, scene.contact_functors("law")),
-            pair_ok=t["pair_ok"], width=contact_width(self.contact_groups(scene)))
+            pair_ok=t["pair_ok"], width=contact_width(self.contact_groups(scene)), law_totals=law_totals())
 
     def check_contact_columns(self, scene, t) -> None:
         """Refuse a plan in which one contact's functors (geometry, physics and the law they dispatch to, the

@@ -28,6 +28,7 @@ from granum.core.contacts import (
     I_ID2,
     STATUS_NO_GEOM,
     STATUS_NO_LAW,
+    STATUS_NO_PAIR_VALUE,
     STATUS_NO_PHYS,
     STATUS_NONFINITE,
     STATUS_TOO_LARGE,
@@ -105,6 +106,18 @@ def _nonfinite(scene, a: int, _b: int) -> str:
     return f"{state}; is O.dt too large (compare PWaveTimeStep())?"
 
 
+def _no_pair_value(scene, a: int, b: int) -> str:
+    """An Ip2 functor has no value for the materials of bodies ``a`` and ``b``: its Python side says why
+    (``explain_pair``: a MatchMaker without a match, materials it cannot combine)."""
+    for e in scene.engines:
+        for f in getattr(getattr(e, "physDispatcher", None), "functors", ()):
+            why = f.explain_pair(scene, a, b)
+            if why:
+                return why
+    ma, mb = _materials(scene, a, b)
+    return f"the Ip2 functor has no value for the materials of bodies {a} and {b} ({ma}, {mb})"
+
+
 #: One message builder per ``STATUS_*`` code: ``builder(scene, err_a, err_b) -> str`` (the cause and what
 #: to change; the runner adds the step number).
 MESSAGES: dict[int, Callable[[object, int, int], str]] = {
@@ -113,6 +126,7 @@ MESSAGES: dict[int, Callable[[object, int, int], str]] = {
     STATUS_NONFINITE: _nonfinite,
     STATUS_NO_GEOM: _no_geom,
     STATUS_TOO_LARGE: _too_large,
+    STATUS_NO_PAIR_VALUE: _no_pair_value,
 }
 
 

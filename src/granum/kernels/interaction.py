@@ -279,11 +279,16 @@ def grow_contacts(C, need):
 
 @jit
 def widen_contacts(C, width):
-    """Give ``con_f`` at least ``width`` columns (new ones zero: history starts empty)."""
+    """Give ``con_f`` at least ``width`` columns (new ones zero: history starts empty), and ``ended`` as many."""
     if C.con_f.shape[1] < width:
         con_f = np.zeros((C.con_f.shape[0], width), np.float64)
         copy_rows(con_f, C.con_f, C.con_f.shape[0])
         C.con_f = con_f
+    if C.ended.shape[0] < width:
+        ended = np.zeros(width, np.float64)
+        for k in range(C.ended.shape[0]):
+            ended[k] = C.ended[k]
+        C.ended = ended
 
 
 @jit
@@ -393,6 +398,9 @@ class InteractionParams(NamedTuple):
     law_tab: tuple         #: the Law2 functors' table
     pair_ok: np.ndarray    #: Ig2 per pair of shape kinds: 1 listed, 2 only unlisted ones, 0 none; (NKINDS, NKINDS) int8
     width: int             #: ``con_f`` columns the functors use (and the energy columns while O.trackEnergy)
+    #: per Law2 functor code, the running totals its contacts keep after ending (first ``con_f`` column, count;
+    #: count 0: none; :func:`granum.core.contacts.register_totals`), (law functors, 2) int64
+    law_totals: np.ndarray
 
 
 @jit
@@ -486,8 +494,9 @@ update, update_par = kernel(_update)
 
 
 @jit
-def unlink_dead(C, died):
-    """Detach contacts ended in this step from their pairs (serial, block by block)."""
+def unlink_dead(C, died, law_totals):
+    """Detach contacts ended in this step from their pairs (serial, block by block, so in contact order), and
+    add their running totals to ``C.ended`` (``law_totals``: :attr:`InteractionParams.law_totals`)."""
     n = C.ctr[C_CONTACTS]
     for b in range(died.shape[0]):
         if died[b] == 0:
@@ -495,6 +504,10 @@ def unlink_dead(C, died):
         for c in range(b * BLOCK, min(n, (b + 1) * BLOCK)):
             if C.con_i[c, I_FLAGS] & FLAG_ALIVE or C.con_i[c, I_ID1] < 0:
                 continue
+            law = C.con_i[c, I_LAW]
+            if 0 <= law < law_totals.shape[0]:
+                for k in range(law_totals[law, 0], law_totals[law, 0] + law_totals[law, 1]):
+                    C.ended[k] += C.con_f[c, k]
             p = C.con_i[c, I_PAIR]
             if p >= 0:
                 C.pair_con[p] = -1
@@ -713,7 +726,7 @@ def interaction_stage(S, C, P):
         update(R, V, geom_tab, phys_tab, law_tab, died)
     else:
         update_par(R, V, geom_tab, phys_tab, law_tab, died)
-    unlink_dead(V, died)
+    unlink_dead(V, died, P.law_totals)
     if V.ctr[C_CSR_DIRTY]:
         if 4 * V.ctr[C_DEAD] > V.ctr[C_CONTACTS]:
             compact(V)

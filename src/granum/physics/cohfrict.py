@@ -15,7 +15,9 @@ kn, ks as FrictPhys (:func:`granum.physics.frict.phys_frict`, both from the mate
 and, when the contact is made cohesive (both materials ``isCohesive``; at creation with
 ``setCohesionOnNewContacts``, at the step ``setCohesionNow`` acts, or for a contact whose
 ``initCohesion`` is set), a_n = min(C_n1, C_n2) min(r1, r2)^2, a_s = min(C_s1, C_s2) min(r1, r2)^2,
-``fragile`` = fragile1 or fragile2, and the ScGeom6D rotations start from then.
+``fragile`` = fragile1 or fragile2, and the ScGeom6D rotations start from then. The Ip2's MatchMakers
+``normalCohesion``, ``shearCohesion`` (no values supplied, as YADE) replace min(C_1, C_2), and ``frictAngle``
+(combining the materials' angles) the smaller angle.
 
 **Law** (Law2_ScGeom6D_CohFrictPhys_CohesionMoment), forces on body 2, u_n the penetration depth, u_n^p its
 plastic part (``unp``):
@@ -80,8 +82,9 @@ from granum.core.contacts import (
     register_history,
 )
 from granum.physics import materials, registry
-from granum.physics.frict import M_FRICTION, series_stiffness
+from granum.physics.frict import FRICTION_ANGLE, M_FRICTION, pair_friction, series_stiffness
 from granum.physics.l3geom import load_row, store_row
+from granum.physics.matchmaker import given, pair_value, refuse_pair
 from granum.physics.materials import NON_NEGATIVE
 from granum.physics.registry import Functor, MaterialKind, Param, Range
 from granum.physics.scgeom import (
@@ -178,6 +181,7 @@ class CohesionNow:
     _cohesion_iter = -1   # the step at which setCohesionNow acts, -1 while it is not set
 
     def prepare(self, scene) -> None:
+        super().prepare(scene)
         if self._cohesion_iter >= 0 and (not self.setCohesionNow or scene.iter > self._cohesion_iter):
             self.setCohesionNow = False   # it has acted (YADE turns it off at the next step)
             self._cohesion_iter = -1
@@ -207,15 +211,18 @@ IP2 = Functor(
     (Param("setCohesionNow", False, "Make the existing contacts (and those created at the same step) cohesive "
                                     "at the next step; turned off afterwards [-]"),
      Param("setCohesionOnNewContacts", False, "Make every new contact cohesive [-]"),
-     Param("normalCohesion", None, "Per-material-pair tensile strength (MatchMaker; not implemented yet: only "
-                                   "None, the min of the materials')", supported=False),
-     Param("shearCohesion", None, "Per-material-pair shear strength (MatchMaker; not implemented yet: only None)",
-           supported=False),
-     Param("frictAngle", None, "Per-material-pair friction angle (MatchMaker; not implemented yet: only None, the "
-                               "min of the materials')", supported=False)),
+     Param("normalCohesion", None, "Per-material-pair tensile strength (MatchMaker, supplied no values; None: the "
+                                   "min of the materials') [Pa]", valid=_STRENGTH, matchmaker="bare"),
+     Param("shearCohesion", None, "Per-material-pair shear strength (MatchMaker, supplied no values; None: the min "
+                                  "of the materials') [Pa]", valid=_STRENGTH, matchmaker="bare"),
+     Param("frictAngle", None, "Per-material-pair friction angle (MatchMaker of the materials' frictionAngle; "
+                               "None: the min of the two) [rad]", valid=FRICTION_ANGLE, matchmaker="values")),
     "", HISTORY, python=f"{__name__}:CohesionNow")
 IP2_COHESION_NOW = IP2.slot("setCohesionNow")
 IP2_ON_NEW = IP2.slot("setCohesionOnNewContacts")
+IP2_NORMAL_COHESION = IP2.slot("normalCohesion")
+IP2_SHEAR_COHESION = IP2.slot("shearCohesion")
+IP2_FRICT_ANGLE = IP2.slot("frictAngle")
 
 
 @jit
@@ -227,13 +234,31 @@ def harmonic(a, b):
 
 
 @jit
-def make_cohesive(c, id1, id2, S, C, m1, m2):
-    """Cohesion of contact ``c`` from the materials' strengths (module docstring); its rotations start now."""
+def strength(prm, slot, row1, row2, c1, c2):
+    """A strength of the contact [Pa]: the Ip2's MatchMaker at ``slot`` when given (NaN: no value for the
+    pair), else the smaller of the materials' c1, c2."""
+    if given(prm, slot):
+        return pair_value(prm, slot, row1, row2, math.nan, math.nan)
+    return min(c1, c2)
+
+
+@jit
+def make_cohesive(c, id1, id2, S, C, prm):
+    """Cohesion of contact ``c`` from the strengths (module docstring: the Ip2's MatchMakers, else the
+    materials'); its rotations start now. Stops the run (``refuse_pair``) when a MatchMaker has no value."""
     f = C.con_f
+    row1 = S.material[id1]
+    row2 = S.material[id2]
+    m1 = S.mat[row1]
+    m2 = S.mat[row2]
+    normal = strength(prm, IP2_NORMAL_COHESION, row1, row2, m1[M_NORMAL_COHESION], m2[M_NORMAL_COHESION])
+    shear = strength(prm, IP2_SHEAR_COHESION, row1, row2, m1[M_SHEAR_COHESION], m2[M_SHEAR_COHESION])
+    if normal != normal or shear != shear:
+        refuse_pair(C, id1, id2)
     r = min(f[c, F_R1], f[c, F_R2])
     f[c, CF_BROKEN] = 0.0
-    f[c, CF_NORMAL_ADHESION] = min(m1[M_NORMAL_COHESION], m2[M_NORMAL_COHESION]) * r * r
-    f[c, CF_SHEAR_ADHESION] = min(m1[M_SHEAR_COHESION], m2[M_SHEAR_COHESION]) * r * r
+    f[c, CF_NORMAL_ADHESION] = normal * r * r
+    f[c, CF_SHEAR_ADHESION] = shear * r * r
     f[c, CF_FRAGILE] = 1.0 if m1[M_FRAGILE] != 0.0 or m2[M_FRAGILE] != 0.0 else 0.0
     scgeom6d_init(c, id1, id2, S, C)
 
@@ -253,7 +278,8 @@ def phys_cohfrict(c, id1, id2, S, C, prm):
         ks = series_stiffness(e1 * m1[materials.M_POISSON], r1, e2 * m2[materials.M_POISSON], r2)
         f[c, F_KN] = series_stiffness(e1, r1, e2, r2)
         f[c, F_KS] = ks
-        f[c, F_TANPHI] = math.tan(min(m1[M_FRICTION], m2[M_FRICTION]))
+        f[c, F_TANPHI] = math.tan(pair_friction(prm, IP2_FRICT_ANGLE, S.material[id1], S.material[id2],
+                                                m1[M_FRICTION], m2[M_FRICTION]))
         f[c, CF_KR] = r1 * r2 * ks * harmonic(m1[M_ALPHA_KR], m2[M_ALPHA_KR])
         f[c, CF_KTW] = r1 * r2 * ks * harmonic(m1[M_ALPHA_KTW], m2[M_ALPHA_KTW])
         f[c, CF_MAX_ROLL] = min(m1[M_ETA_ROLL] * r1, m2[M_ETA_ROLL] * r2)
@@ -265,7 +291,7 @@ def phys_cohfrict(c, id1, id2, S, C, prm):
         cohesive_now = cohesive_now or prm[IP2_ON_NEW] != 0.0
     both = m1[M_COHESIVE] != 0.0 and m2[M_COHESIVE] != 0.0
     if (cohesive_now and both) or f[c, CF_INIT_COHESION] != 0.0:
-        make_cohesive(c, id1, id2, S, C, m1, m2)
+        make_cohesive(c, id1, id2, S, C, prm)
         f[c, CF_INIT_COHESION] = 0.0
 
 

@@ -29,6 +29,7 @@ from granum.core.contacts import (
     I_FLAGS,
 )
 from granum.physics import materials, registry
+from granum.physics.matchmaker import given, pair_value
 from granum.physics.registry import Functor, MaterialKind, Param, Range
 from granum.physics.scgeom import (
     contact_shift,
@@ -64,8 +65,17 @@ def series_stiffness(e1, l1, e2, l2):
 
 
 @jit
+def pair_friction(prm, slot, row1, row2, phi1, phi2):
+    """The friction angle of a contact [rad]: the Ip2's MatchMaker at ``slot`` when given (its algorithm
+    combining phi1, phi2), else min(phi1, phi2)."""
+    if given(prm, slot):
+        return pair_value(prm, slot, row1, row2, phi1, phi2)
+    return min(phi1, phi2)
+
+
+@jit
 def phys_frict(c, id1, id2, S, C, prm):
-    """FrictPhys constants of a new contact (YADE (3.2,1) and section 3.2.2).
+    """FrictPhys constants of a new contact from the materials (YADE (3.2,1) and section 3.2.2).
 
     .. math::
         k_n = \\frac{2 E_1 r_1 E_2 r_2}{E_1 r_1 + E_2 r_2}, \\quad
@@ -74,15 +84,10 @@ def phys_frict(c, id1, id2, S, C, prm):
 
     r_i are the reference radii of the geometry (a non-positive one is replaced by
     the other: flat bodies borrow the sphere's radius); nu_i is ``poisson``, used
-    as the ratio k_s/k_n.
+    as the ratio k_s/k_n. ``prm`` is not read: other physics functors (and users' laws) call this.
     """
     f = C.con_f
-    r1 = f[c, F_R1]
-    r2 = f[c, F_R2]
-    if r1 <= 0.0:
-        r1 = r2
-    if r2 <= 0.0:
-        r2 = r1
+    r1, r2 = frict_radii(c, C)
     m1 = S.mat[S.material[id1]]
     m2 = S.mat[S.material[id2]]
     e1 = m1[materials.M_YOUNG]
@@ -90,6 +95,41 @@ def phys_frict(c, id1, id2, S, C, prm):
     f[c, F_KN] = series_stiffness(e1, r1, e2, r2)
     f[c, F_KS] = series_stiffness(e1 * m1[materials.M_POISSON], r1, e2 * m2[materials.M_POISSON], r2)
     f[c, F_TANPHI] = math.tan(min(m1[M_FRICTION], m2[M_FRICTION]))
+
+
+@jit
+def frict_radii(c, C):
+    """The reference radii ``(r1, r2)`` of contact ``c`` [m], a non-positive one replaced by the other."""
+    r1 = C.con_f[c, F_R1]
+    r2 = C.con_f[c, F_R2]
+    if r1 <= 0.0:
+        r1 = r2
+    if r2 <= 0.0:
+        r2 = r1
+    return r1, r2
+
+
+@jit
+def phys_frict_ip2(c, id1, id2, S, C, prm):
+    """Ip2_FrictMat_FrictMat_FrictPhys: :func:`phys_frict`, then the Ip2's MatchMakers ``kn``, ``ks``,
+    ``frictAngle`` when given set the value for the pair of materials instead; their algorithms combine
+    E_i r_i, E_i r_i nu_i and phi_i (as YADE)."""
+    phys_frict(c, id1, id2, S, C, prm)
+    f = C.con_f
+    r1, r2 = frict_radii(c, C)
+    row1 = S.material[id1]
+    row2 = S.material[id2]
+    m1 = S.mat[row1]
+    m2 = S.mat[row2]
+    e1 = m1[materials.M_YOUNG]
+    e2 = m2[materials.M_YOUNG]
+    if given(prm, IP2_KN):
+        f[c, F_KN] = pair_value(prm, IP2_KN, row1, row2, e1 * r1, e2 * r2)
+    if given(prm, IP2_KS):
+        f[c, F_KS] = pair_value(prm, IP2_KS, row1, row2, e1 * r1 * m1[materials.M_POISSON],
+                                e2 * r2 * m2[materials.M_POISSON])
+    if given(prm, IP2_FRICT_ANGLE):
+        f[c, F_TANPHI] = math.tan(pair_friction(prm, IP2_FRICT_ANGLE, row1, row2, m1[M_FRICTION], m2[M_FRICTION]))
 
 
 @jit
@@ -149,15 +189,25 @@ def law_cundall_strack(c, id1, id2, S, C, prm):
     return True
 
 
-registry.register_functor(Functor(
+#: a per-pair stiffness given by a MatchMaker [N/m]
+_STIFFNESS = Range(0.0, why="a negative stiffness pushes along the displacement")
+#: a per-pair friction angle given by a MatchMaker [rad]
+FRICTION_ANGLE = Range(0.0, math.pi / 2, why="the Coulomb limit |Fn| tan(frictAngle) must not be negative")
+IP2 = Functor(
     "Ip2_FrictMat_FrictMat_FrictPhys", "phys", ("FrictMat", "FrictMat"), "FrictPhys",
-    f"{__name__}:phys_frict",
-    (Param("kn", None, "Per-material-pair normal stiffness (MatchMaker; not implemented: only None)", supported=False),
-     Param("ks", None, "Per-material-pair shear stiffness (MatchMaker; not implemented: only None)", supported=False),
-     Param("frictAngle", None,
-           "Per-material-pair friction angle (MatchMaker; not implemented: only None, the min of the two)",
-           supported=False)),
-    phys_frict.py_func.__doc__))
+    f"{__name__}:phys_frict_ip2",
+    (Param("kn", None, "Per-material-pair normal stiffness (MatchMaker of E_i r_i; None: the materials') [N/m]",
+           valid=_STIFFNESS, matchmaker="values"),
+     Param("ks", None, "Per-material-pair shear stiffness (MatchMaker of E_i r_i nu_i; None: the materials') [N/m]",
+           valid=_STIFFNESS, matchmaker="values"),
+     Param("frictAngle", None, "Per-material-pair friction angle (MatchMaker of the materials' frictionAngle; "
+                               "None: the min of the two) [rad]", valid=FRICTION_ANGLE, matchmaker="values")),
+    phys_frict.py_func.__doc__ + phys_frict_ip2.py_func.__doc__)
+registry.register_functor(IP2)
+#: places of the Ip2's MatchMakers in its row ``prm``
+IP2_KN = IP2.slot("kn")
+IP2_KS = IP2.slot("ks")
+IP2_FRICT_ANGLE = IP2.slot("frictAngle")
 LAW_CS = Functor(
     "Law2_ScGeom_FrictPhys_CundallStrack", "law", ("ScGeom", "FrictPhys"), None,
     f"{__name__}:law_cundall_strack",

@@ -60,10 +60,12 @@ from granum.core.contacts import (
     F_R2,
     F_TANPHI,
     register_history,
+    register_totals,
 )
 from granum.physics import materials, registry
-from granum.physics.frict import M_FRICTION
+from granum.physics.frict import FRICTION_ANGLE, M_FRICTION, pair_friction
 from granum.physics.l3geom import load_row, store_row
+from granum.physics.matchmaker import given, pair_value, refuse_pair
 from granum.physics.materials import NON_NEGATIVE
 from granum.physics.registry import Functor, Param, Range
 from granum.physics.scgeom import (
@@ -75,8 +77,6 @@ from granum.physics.scgeom import (
     scgeom_shear_rotation,
 )
 from granum.physics.vec import add, dot, load3, scale, sub
-
-_NAN = float("nan")
 
 #: per-contact columns of MindlinPhys (the group "mindlin"), offsets from F_MINDLIN
 F_MINDLIN = register_history("mindlin", 36, after=("energy", "moment"))
@@ -104,6 +104,8 @@ F_MAX_BEND = F_MINDLIN + 29     # maxBendPl: eta (R1 + R2)/2, the plastic bendin
 F_MOMENT_BEND = F_MINDLIN + 30  # 30..32 momentBend: bending moment on body 2 [N m]
 F_MOMENT_TWIST = F_MINDLIN + 33  # 33..35 momentTwist: twisting moment on body 2 [N m]
 F_MINDLIN_END = F_MINDLIN + 36
+#: the law's accumulators keep the shares of ended contacts (YADE 2023.02a's, checked)
+register_totals("mindlin", F_FRICT_DISSIP, 4)
 #: the Mindlin columns, and the contact moment the force gather adds (includeMoment)
 HISTORY = ("mindlin", "moment")
 
@@ -133,9 +135,10 @@ class MindlinIp2:
     material of the scene's bodies whose Poisson's ratio is outside [0, 1)."""
 
     def prepare(self, scene) -> None:
+        super().prepare(scene)   # the MatchMakers' ranges and tables
         name = type(self).__name__
         for p in self.spec.compiled_params():
-            if p.valid is not None:
+            if p.valid is not None and not p.matchmaker:
                 p.check(name, float(getattr(self, p.name)))
         check_damping(name, self.en, self.es, self.betan, self.betas)
         b = scene.bodies
@@ -157,13 +160,16 @@ IP2 = Functor(
            valid=NON_NEGATIVE),
      Param("krot", 0.0, "Rotational stiffness of the moment law (includeMoment) [N m/rad]", valid=NON_NEGATIVE),
      Param("ktwist", 0.0, "Twisting stiffness of the moment law (includeMoment) [N m/rad]", valid=NON_NEGATIVE),
-     Param("en", _NAN, "Normal restitution coefficient (YADE's MatchMaker, as a number; NaN: not given) [-]",
-           valid=_RESTITUTION),
-     Param("es", _NAN, "Shear restitution coefficient (NaN: not given) [-]", valid=_RESTITUTION),
-     Param("betan", _NAN, "Normal viscous damping ratio c_n / c_n,crit (NaN: not given) [-]", valid=_RATIO),
-     Param("betas", _NAN, "Shear viscous damping ratio (NaN: not given; then betan) [-]", valid=_RATIO),
-     Param("frictAngle", None, "Per-material-pair friction angle (MatchMaker; not implemented yet: only None, "
-                               "the min of the materials')", supported=False)),
+     Param("en", None, "Normal restitution coefficient (MatchMaker, supplied no values; None: not given) [-]",
+           valid=_RESTITUTION, matchmaker="bare"),
+     Param("es", None, "Shear restitution coefficient (MatchMaker, supplied no values; None: not given, then en) "
+                       "[-]", valid=_RESTITUTION, matchmaker="bare"),
+     Param("betan", None, "Normal viscous damping ratio c_n / c_n,crit (MatchMaker, supplied no values; None: not "
+                          "given, 0) [-]", valid=_RATIO, matchmaker="bare"),
+     Param("betas", None, "Shear viscous damping ratio (MatchMaker, supplied no values; None: not given, then "
+                          "betan) [-]", valid=_RATIO, matchmaker="bare"),
+     Param("frictAngle", None, "Per-material-pair friction angle (MatchMaker of the materials' frictionAngle; "
+                               "None: the min of the two) [rad]", valid=FRICTION_ANGLE, matchmaker="values")),
     "", HISTORY, python=f"{__name__}:MindlinIp2")
 GAMMA = IP2.slot("gamma")
 ETA = IP2.slot("eta")
@@ -173,6 +179,7 @@ EN = IP2.slot("en")
 ES = IP2.slot("es")
 BETAN = IP2.slot("betan")
 BETAS = IP2.slot("betas")
+FRICT_ANGLE = IP2.slot("frictAngle")
 
 #: Thornton et al. (2013) (B6): the coefficients h_1..h_10 of their fit of the damping ratio of a
 #: Hertzian contact as a function of the restitution coefficient
@@ -208,13 +215,22 @@ def damping_ratios(en, es, betan, betas):
     return bn, (betas if betas == betas else bn)
 
 
-def check_damping(owner: str, en: float, es: float, betan: float, betas: float) -> None:
-    """Raise ValueError when restitution coefficients and damping ratios are both given: YADE refuses
-    en with betan (es with betas) and silently ignores a ratio given with a restitution coefficient."""
-    given = [n for n, v in (("en", en), ("es", es), ("betan", betan), ("betas", betas)) if not math.isnan(v)]
-    if any(n.startswith("e") for n in given) and any(n.startswith("b") for n in given):
+def check_damping(owner: str, en, es, betan, betas) -> None:
+    """Raise ValueError when restitution coefficients and damping ratios are both given (not None): YADE
+    refuses en with betan (es with betas) and silently ignores a ratio given with a restitution coefficient."""
+    names = [n for n, v in (("en", en), ("es", es), ("betan", betan), ("betas", betas)) if v is not None]
+    if any(n.startswith("e") for n in names) and any(n.startswith("b") for n in names):
         raise ValueError(f"{owner}: give the damping either as restitution coefficients (en, es) or as damping "
-                         f"ratios (betan, betas), not both (given: {', '.join(given)})")
+                         f"ratios (betan, betas), not both (given: {', '.join(names)})")
+
+
+@jit
+def damping_value(prm, slot, row1, row2):
+    """The Ip2's damping MatchMaker at ``slot`` for the material rows; NaN when it is not given or has no
+    value for them (:func:`phys_mindlin` tells the two apart)."""
+    if given(prm, slot):
+        return pair_value(prm, slot, row1, row2, math.nan, math.nan)
+    return math.nan
 
 
 @jit
@@ -273,12 +289,21 @@ def phys_mindlin(c, id1, id2, S, C, prm):
     f[c, F_KNO] = 4.0 / 3.0 * e_star * math.sqrt(r)
     f[c, F_KSO] = 8.0 * g_star * math.sqrt(r)
     f[c, F_ADH] = 4.0 * math.pi * r * prm[GAMMA]
-    bn, bs = damping_ratios(prm[EN], prm[ES], prm[BETAN], prm[BETAS])
+    row1 = S.material[id1]
+    row2 = S.material[id2]
+    en = damping_value(prm, EN, row1, row2)
+    es = damping_value(prm, ES, row1, row2)
+    betan = damping_value(prm, BETAN, row1, row2)
+    betas = damping_value(prm, BETAS, row1, row2)
+    if (given(prm, EN) and en != en) or (given(prm, ES) and es != es) or (given(prm, BETAN) and betan != betan) \
+            or (given(prm, BETAS) and betas != betas):
+        refuse_pair(C, id1, id2)
+    bn, bs = damping_ratios(en, es, betan, betas)
     f[c, F_BETAN] = bn
     f[c, F_BETAS] = bs
     f[c, F_KN] = 0.0
     f[c, F_KS] = 0.0
-    f[c, F_TANPHI] = math.tan(min(m1[M_FRICTION], m2[M_FRICTION]))
+    f[c, F_TANPHI] = math.tan(pair_friction(prm, FRICT_ANGLE, row1, row2, m1[M_FRICTION], m2[M_FRICTION]))
     for k in range(F_SHEAR_EL, F_MINDLIN_END):
         f[c, k] = 0.0
     for k in range(3):

@@ -50,8 +50,8 @@ class TypeInfo:
 
     ``fields`` maps the YADE attribute names the type adds to its parent to
     ``(first float column of the contact pool, width)``, width 1 (a float; ``(column, 1, "bool")``: a flag
-    stored as 0/1), 3 (a Vector3), 4 (a Quaternion, w x y z) or 9 (a Matrix3, row by row); the YADE views of
-    interactions (``i.geom``, ``i.phys``) are generated from them.
+    stored as 0/1; ``(column, 1, "int")``: an integer), 3 (a Vector3), 4 (a Quaternion, w x y z) or 9 (a
+    Matrix3, row by row); the YADE views of interactions (``i.geom``, ``i.phys``) are generated from them.
     """
 
     name: str
@@ -100,7 +100,10 @@ class Param:
     ``supported=False`` marks a YADE attribute granum accepts for compatibility but
     does not implement: any value other than the default is refused when the scene runs.
     ``valid`` is the :class:`Range` a float value must lie in (None: any float); a parameter
-    whose default is NaN is optional and NaN stands for "not given".
+    whose default is NaN is optional and NaN stands for "not given". ``matchmaker`` marks a functor parameter
+    that is YADE's MatchMaker (:mod:`granum.physics.matchmaker`; default None): ``"values"`` when the
+    compiled function supplies the two values its algorithm combines, ``"bare"`` when it supplies none (as
+    YADE); ``valid`` then applies to each value it holds.
     """
 
     name: str
@@ -108,6 +111,7 @@ class Param:
     doc: str = ""
     supported: bool = True
     valid: Range | None = None
+    matchmaker: str = ""
 
     def check(self, owner: str, value: float) -> None:
         """Raise ValueError naming ``owner.name``, the valid range and ``value`` unless ``value`` (a float)
@@ -172,9 +176,10 @@ class Functor:
 
     def compiled_params(self) -> tuple[Param, ...]:
         """The parameters compiled code receives in its row ``prm``, in this order: the supported ones
-        whose value is a number (booleans as 0/1). The others (MatchMakers, unsupported attributes) only
-        exist in Python."""
-        return tuple(p for p in self.params if p.supported and isinstance(p.default, bool | int | float))
+        whose value is a number (booleans as 0/1), and the MatchMakers (the offset of their table in ``prm``,
+        :mod:`granum.physics.matchmaker`). The others (unsupported attributes) only exist in Python."""
+        return tuple(p for p in self.params
+                     if p.supported and (p.matchmaker or isinstance(p.default, bool | int | float)))
 
     def slot(self, name: str) -> int:
         """Index of the parameter ``name`` in the functor's row ``prm``: compiled functions read

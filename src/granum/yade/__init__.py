@@ -70,6 +70,7 @@ from granum.engines.timestepper import GlobalStiffnessTimeStepper, TimeStepper
 from granum.engines.triaxial import TriaxialStressController
 from granum.idem import IDEMSolver
 from granum.mathtypes import Matrix3, Quaternion, Vector2, Vector2i, Vector3, Vector3i, Vector6
+from granum.physics.matchmaker import MatchMaker
 from granum.yade import (  # noqa: F401 - the yade.X modules (_laws: the law classes' accumulators and counts)
     _laws,
     bodiesHandling,
@@ -140,7 +141,7 @@ _namespace.update(
     TriaxialStateRecorder=TriaxialStateRecorder,
     ForceEngine=ForceEngine, TranslationEngine=TranslationEngine, RotationEngine=RotationEngine,
     KinematicEngine=KinematicEngine, HelixEngine=HelixEngine, CombinedKinematicEngine=CombinedKinematicEngine,
-    DomainLimiter=DomainLimiter,
+    DomainLimiter=DomainLimiter, MatchMaker=MatchMaker,
     ParallelEngine=ParallelEngine, HarmonicMotionEngine=HarmonicMotionEngine,
     HarmonicRotationEngine=HarmonicRotationEngine, InterpolatingHelixEngine=InterpolatingHelixEngine,
     BicyclePedalEngine=BicyclePedalEngine, ServoPIDController=ServoPIDController, TorqueEngine=TorqueEngine,

@@ -4,8 +4,9 @@ elastic energy of ``Law2_ScGeom_CpmPhys_Cpm``.
 
 They are added to the classes generated from the registry (:mod:`granum.engines.functors`) and computed
 with NumPy from the contacts of ``O``'s scene that this law handles. The energies are sums of the
-per-contact accumulators the compiled law keeps (:mod:`granum.physics.mindlin`, with ``calcEnergy``), over
-the live contacts: unlike YADE's, the share of a contact that has ended is not kept.
+per-contact accumulators the compiled law keeps (:mod:`granum.physics.mindlin`, with ``calcEnergy``) over
+the live contacts, plus the shares of the contacts that ended (the pool's ``ended`` totals,
+:func:`granum.core.contacts.register_totals`), as YADE's accumulators keep them.
 """
 
 from __future__ import annotations
@@ -36,9 +37,12 @@ def _rows(law_name: str, width: int = mindlin.F_MINDLIN + 27) -> np.ndarray:
 
 def _column_sum(col: int):
     def get(self) -> float:
+        from granum.yade.omega import O
+
         f = _rows(type(self).__name__)
-        return float(f[:, col].sum()) if f.size else 0.0
-    return property(get, doc=f"Sum over the live contacts (column {col} of the pool) [J]")
+        ended = O._scene.contacts.ended
+        return (float(f[:, col].sum()) if f.size else 0.0) + (float(ended[col]) if len(ended) > col else 0.0)
+    return property(get, doc=f"Sum over the live contacts (column {col} of the pool) and the ended ones [J]")
 
 
 MINDLIN.frictionDissipation = _column_sum(mindlin.F_FRICT_DISSIP)

@@ -23,11 +23,12 @@ from granum.core.bodies import (
     dofs_from_string,
     dofs_to_string,
 )
-from granum.core.contacts import C_CONTACTS, FLAG_ALIVE, I_FLAGS, I_ID1, I_ID2, end_contact
+from granum.core.contacts import C_CONTACTS, FLAG_ALIVE, I_FLAGS, I_ID1, I_ID2
 from granum.core.scene import BodyStore, Scene
 from granum.core.shapes import ShapeKind, shape_type
 from granum.mathtypes import Matrix3, Quaternion, Vector3, as_quat_wxyz, as_vec3
 from granum.yade._pausing import pauses_the_run
+from granum.yade.interactions import end_law_contact
 
 
 class _Nursery(BodyStore):
@@ -821,7 +822,7 @@ class BodyContainer:
         n = int(C.ctr[C_CONTACTS])
         for c in np.nonzero((C.con_i[:n, I_ID1] == i) | (C.con_i[:n, I_ID2] == i))[0]:
             if C.con_i[c, I_FLAGS] & FLAG_ALIVE:
-                end_contact(C, c)
+                end_law_contact(C, c)
         scene.needs_collider()
         return True
 

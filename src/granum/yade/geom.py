@@ -297,8 +297,13 @@ def facetBox(center, extents, orientation=None, wallMask=63, **kw):
 
     ``wallMask`` selects the faces: bit 0 -x, 1 +x, 2 -y, 3 +y, 4 -z, 5 +z (31: open top).
     ``orientation`` rotates the box about its centre; other keywords go to ``utils.facet``.
+    A flat box (one extent 0) is one rectangle whatever ``wallMask``: the two facets of its -x, -y or -z face
+    (YADE 2023.02a, tests/reference/yade/viscel_pairs.py); two zero extents are refused.
     """
-    return _hexahedron("facetBox", as_vec3(extents), 0.0, wallMask, center, orientation, kw)
+    e = as_vec3(extents)
+    flat = [k for k in range(3) if e[k] == 0]
+    _check("facetBox", len(flat) < 2, f"at least two extents must be nonzero, got extents={tuple(e.tolist())}")
+    return _hexahedron("facetBox", e, 0.0, 1 << 2 * flat[0] if flat else wallMask, center, orientation, kw)
 
 
 def facetParallelepiped(center, extents, height, orientation=None, wallMask=63, **kw):

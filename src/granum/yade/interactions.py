@@ -22,6 +22,7 @@ from granum.core.contacts import (
     I_GEOM,
     I_ID1,
     I_ID2,
+    I_LAW,
     I_PAIR,
     I_PHYS,
     end_contact,
@@ -54,6 +55,12 @@ def find_pair(C, a: int, b: int) -> int:
     hi = _lower_bound(first, lo, n, a + 1)
     k = _lower_bound(second, lo, hi, b)
     return k if k < hi and second[k] == b else -1
+
+
+def end_law_contact(C, c: int) -> None:
+    """End live contact ``c`` from Python, keeping the running totals of its law (``end_contact``)."""
+    law = int(C.con_i[c, I_LAW])
+    end_contact(C, c, functors("law")[law].history if 0 <= law < len(functors("law")) else ())
 
 
 def find_contact(scene, a: int, b: int) -> int:
@@ -130,7 +137,8 @@ class _ContactView:
 
 
 def _field_property(name: str, field: tuple) -> property:
-    """The property reading and writing ``field`` = (column, width[, "bool"]) of the view's contact row."""
+    """The property reading and writing ``field`` = (column, width[, "bool" or "int"]) of the view's contact
+    row."""
     col, width = field[:2]
     end = col + width
     scalar = {"bool": bool, "int": int}.get(field[2] if len(field) > 2 else "float", float)
@@ -455,7 +463,7 @@ class InteractionContainer:
         c = find_contact(self._scene, a, b)
         if c < 0:
             return False
-        end_contact(C, c)
+        end_law_contact(C, c)
         return True
 
     @pauses_the_run
