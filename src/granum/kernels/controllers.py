@@ -89,7 +89,14 @@ def contact_stress(S, C, out):
         out[O_STRESS + a] = sig[a, a] / vol
         for b in range(3):
             out[O_TENSOR + 3 * a + b] = sig[a, b] / vol
-    # unbalanced force: mean resultant on free bodies over the mean contact force
+    out[O_UNBALANCED] = unbalanced_force(S, fsum, nc)
+    return vol
+
+
+@jit
+def unbalanced_force(S, fsum, nc):
+    """YADE's unbalanced force: the mean resultant force on free bodies over the mean contact force
+    (``fsum``: the sum of |f| over the ``nc`` live contacts) [-]; NaN without contacts or free bodies."""
     res = 0.0
     nfree = 0
     alive, blocked, clump_id, force = S.alive, S.blocked, S.clump_id, S.force
@@ -97,8 +104,7 @@ def contact_stress(S, C, out):
         if alive[i] and blocked[i] != DOF_ALL and (clump_id[i] < 0 or clump_id[i] == i):
             res += math.sqrt(force[i, 0] ** 2 + force[i, 1] ** 2 + force[i, 2] ** 2)
             nfree += 1
-    out[O_UNBALANCED] = (res / nfree) / (fsum / nc) if nc > 0 and nfree > 0 and fsum > 0 else math.nan
-    return vol
+    return (res / nfree) / (fsum / nc) if nc > 0 and nfree > 0 and fsum > 0 else math.nan
 
 
 @jit

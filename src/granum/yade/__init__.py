@@ -24,7 +24,7 @@ from future import standard_library as _standard_library
 
 from granum import idem
 from granum.engines.base import Engine, GlobalEngine, PartialEngine, PeriodicEngine
-from granum.engines.controllers import PeriTriaxController
+from granum.engines.controllers import PeriIsoCompressor, PeriTriaxController
 from granum.engines.functors import CLASSES as _FUNCTORS
 from granum.engines.functors import BoundFunctor, Functor, IGeomFunctor, IPhysFunctor, LawFunctor
 from granum.engines.kinematic import (
@@ -116,7 +116,8 @@ _namespace.update(
     PeriodicEngine=PeriodicEngine, Functor=Functor, BoundFunctor=BoundFunctor, IGeomFunctor=IGeomFunctor,
     IPhysFunctor=IPhysFunctor, LawFunctor=LawFunctor, ForceResetter=ForceResetter, GravityEngine=GravityEngine,
     InsertionSortCollider=InsertionSortCollider, InteractionLoop=InteractionLoop, NewtonIntegrator=NewtonIntegrator,
-    PyRunner=PyRunner, PeriTriaxController=PeriTriaxController, Dispatcher=Dispatcher,
+    PyRunner=PyRunner, PeriTriaxController=PeriTriaxController, PeriIsoCompressor=PeriIsoCompressor,
+    Dispatcher=Dispatcher,
     BoundDispatcher=BoundDispatcher, IGeomDispatcher=IGeomDispatcher, IPhysDispatcher=IPhysDispatcher,
     LawDispatcher=LawDispatcher, TimeStepper=TimeStepper, GlobalStiffnessTimeStepper=GlobalStiffnessTimeStepper,
     TriaxialStressController=TriaxialStressController, Recorder=Recorder,
