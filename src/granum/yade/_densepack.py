@@ -10,10 +10,11 @@ script's scene is left untouched (a run in progress refuses the switch: "Please 
   randomPeriPack: friction angle .1, damping .8, globalUpdateInt 20; randomDensePack: friction .5, damping
   .6, globalUpdateInt 5; Verlet distance .05 r): YADE 2023.02a's set-up, read from its scene after a call.
   ``randomDensePack`` then repeats the cell (``cellFill``) over the predicate's box. randomDensePack's cell
-  has the predicate box's proportions and the volume of ``spheresInCell`` spheres at porosity 0.5.
+  has the predicate box's proportions and the volume of ``spheresInCell`` spheres at porosity 0.75.
 * Aperiodic (``randomDensePack`` without ``spheresInCell``): YADE runs its TriaxialTest; granum compacts a
   cloud between six fixed walls by growing the radii (TriaxialStressController's ``internalCompaction``,
-  FrictMat E 15 MPa, friction 1 degree, to -40 kPa and an unbalanced force below .02), then scales the packing
+  FrictMat E 15 MPa, friction 1 degree, to -40 kPa and an unbalanced force below .02) in a box 4 radii
+  larger on each side than the one requested (the layers along the walls are looser), then scales the packing
   so that its mean radius is ``radius``. YADE's radii come out 1.44 times ``radius`` (0.072 for 0.05 in a unit
   box): its TriaxialTest sizes its box from the radius; granum keeps the radius the docstring promises.
 * ``memoizeDb``: an SQLite file (stdlib ``sqlite3``) of packings already made, with centres and radii as
@@ -38,12 +39,14 @@ from granum.mathtypes import Vector3, as_mat3, as_vec3
 
 #: the stresses PeriIsoCompressor goes through (compress hard, then relax), YADE's values [Pa]
 PERI_STRESSES = [-100e9, -1e8]
-#: porosity assumed when sizing randomDensePack's periodic cell for ``spheresInCell`` spheres
-CELL_POROSITY = 0.5
+#: randomDensePack's periodic cell holds ``spheresInCell`` spheres of ``radius`` at this porosity (YADE's
+#: initial cells: 0.8565^3 for 300 spheres of .05, the box's proportions, no account of rRelFuzz)
+CELL_POROSITY = 0.75
 #: aperiodic compaction: goal mean stress [Pa], unbalanced force to stop at [-], friction [rad]
 WALL_STRESS, WALL_UNBALANCED, WALL_FRICTION = -4e4, 0.02, math.radians(1.0)
-#: aperiodic compaction: porosity assumed for the dense packing when sizing the cloud [-], box margin [-]
-DENSE_POROSITY, BOX_MARGIN = 0.36, 1.05
+#: aperiodic compaction: porosity assumed for the dense packing when sizing the cloud [-]; margin added on each
+#: side of the box, in radii, so that the packing kept is away from the walls' looser layers
+DENSE_POROSITY, WALL_MARGIN = 0.36, 4.0
 TABLE = "granum_packings"
 
 
@@ -125,8 +128,11 @@ def filterSpherePack(predicate, spherePack, returnSpherePack=None, **kw):
                       f"({Vector3(*dim_p)}).", stacklevel=2)
     spherePack.translate(np.asarray(predicate.center()) - np.asarray(spherePack.center()))
     c, r = np.asarray(spherePack.centers), np.asarray(spherePack.radii)
-    if hasattr(predicate, "_inside"):
-        keep = np.asarray(predicate._inside(c, r), dtype=bool)
+    if hasattr(predicate, "_inside"):   # vectorized per padding (one radius, or a few, in dense packs)
+        keep = np.zeros(len(r), dtype=bool)
+        for pad in np.unique(r):
+            same = r == pad
+            keep[same] = np.asarray(predicate._inside(c[same], float(pad)), dtype=bool)
     else:
         keep = np.array([bool(predicate(Vector3(*x), float(y))) for x, y in zip(c, r, strict=True)], dtype=bool)
     if returnSpherePack:
@@ -284,7 +290,7 @@ def randomDensePack(predicate, radius, material=-1, dim=None, cropLayers=0, rRel
         sp = memo_load(memoizeDb, "cell", radius, rRelFuzz, full, spheresInCell)
         if sp is None:
             # the box's proportions, the volume of spheresInCell spheres at CELL_POROSITY
-            v = spheresInCell * 4.0 / 3.0 * math.pi * radius ** 3 * (1 + rRelFuzz ** 2) / (1 - CELL_POROSITY)
+            v = spheresInCell * 4.0 / 3.0 * math.pi * radius ** 3 / (1 - CELL_POROSITY)
             cell = full * (v / np.prod(full)) ** (1.0 / 3.0)
             print("No suitable packing in database found, running PERIODIC compression")
             with _OtherScene() as O:
@@ -308,7 +314,7 @@ def _compact_in_box(O, full, radius, rRelFuzz, seed):
     import granum.yade as y
     from granum.yade import pack, utils
 
-    box = BOX_MARGIN * full
+    box = full + 2 * WALL_MARGIN * radius
     mean_volume = 4.0 / 3.0 * math.pi * radius ** 3 * (1 + rRelFuzz ** 2)
     num = max(1, int(math.ceil(np.prod(box) * (1 - DENSE_POROSITY) / mean_volume)))
     sp = pack.SpherePack()
