@@ -77,8 +77,8 @@ def psd(radii, bins, mass):
     k = np.zeros(d.size, np.int64) if hi == lo else np.minimum(((d - lo) / (hi - lo) * bins).astype(np.int64),
                                                                   bins - 1)
     w = d ** 3 if mass else np.ones_like(d)
-    per_bin = np.bincount(k, weights=w, minlength=bins)
-    cumm = np.concatenate([[0.0], np.cumsum(per_bin) / w.sum()])
+    acc = np.cumsum(np.bincount(k, weights=w, minlength=bins))
+    cumm = np.concatenate([[0.0], acc / acc[-1]])   # the last is exactly 1
     return edges, [float(x) for x in cumm]
 
 
@@ -190,9 +190,12 @@ def memo_load(path, kind, radius, rRelFuzz, dims, spheresInCell=0):
             continue
         if kind == "box" and np.any(stored < dims * (1 - 1e-9)):
             continue
+        if not (isinstance(cblob, bytes) and isinstance(rblob, bytes) and len(cblob) == 24 * n
+                and len(rblob) == 8 * n):
+            raise ValueError(f"memoizeDb {path!r}: a stored packing of {n} spheres is damaged (array sizes)")
         c = np.frombuffer(cblob, dtype="<f8")
         r = np.frombuffer(rblob, dtype="<f8")
-        if c.size != 3 * n or r.size != n or not (np.all(np.isfinite(c)) and np.all(r > 0)):
+        if not (np.all(np.isfinite(c)) and np.all(r > 0)):
             raise ValueError(f"memoizeDb {path!r}: a stored packing of {n} spheres is damaged")
         sp = pack.SpherePack()
         sp.fromList(c.reshape(n, 3) * scale, r * scale)
