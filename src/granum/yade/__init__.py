@@ -36,6 +36,7 @@ from granum.engines.kinematic import (
     TranslationEngine,
 )
 from granum.engines.parallel import ParallelEngine
+from granum.engines.peri3d import Peri3dController
 from granum.engines.pipeline import (
     BoundDispatcher,
     Dispatcher,
@@ -53,7 +54,7 @@ from granum.engines.runner import SimulationError
 from granum.engines.timestepper import GlobalStiffnessTimeStepper, TimeStepper
 from granum.engines.triaxial import TriaxialStressController
 from granum.idem import IDEMSolver
-from granum.mathtypes import Matrix3, Quaternion, Vector2, Vector2i, Vector3, Vector3i, Vector6
+from granum.mathtypes import Matrix3, Quaternion, Vector2, Vector2i, Vector3, Vector3i, Vector6, Vector6i
 from granum.yade import (  # noqa: F401 - the yade.X modules (_laws: the law classes' accumulators and counts)
     _laws,
     bodiesHandling,
@@ -117,6 +118,7 @@ _namespace.update(
     IPhysFunctor=IPhysFunctor, LawFunctor=LawFunctor, ForceResetter=ForceResetter, GravityEngine=GravityEngine,
     InsertionSortCollider=InsertionSortCollider, InteractionLoop=InteractionLoop, NewtonIntegrator=NewtonIntegrator,
     PyRunner=PyRunner, PeriTriaxController=PeriTriaxController, PeriIsoCompressor=PeriIsoCompressor,
+    Peri3dController=Peri3dController,
     Dispatcher=Dispatcher,
     BoundDispatcher=BoundDispatcher, IGeomDispatcher=IGeomDispatcher, IPhysDispatcher=IPhysDispatcher,
     LawDispatcher=LawDispatcher, TimeStepper=TimeStepper, GlobalStiffnessTimeStepper=GlobalStiffnessTimeStepper,
@@ -127,7 +129,7 @@ _namespace.update(
     ParallelEngine=ParallelEngine,
     SimulationError=SimulationError, Body=Body, State=State, Shape=Shape, Aabb=Aabb, Cell=Cell,
     Interaction=Interaction, Vector2=Vector2, Vector2i=Vector2i, Vector3=Vector3,
-    Vector3i=Vector3i, Vector6=Vector6, Matrix3=Matrix3, Quaternion=Quaternion,
+    Vector3i=Vector3i, Vector6=Vector6, Vector6i=Vector6i, Matrix3=Matrix3, Quaternion=Quaternion,
     readParamsFromTable=readParamsFromTable, waitIfBatch=waitIfBatch, runningInBatch=runningInBatch,
     utils=utils, geom=geom, pack=pack, plot=plot, qt=qt, timing=timing, ymport=ymport, export=export,
 )
