@@ -18,9 +18,9 @@ stress, otherwise a strain. Per step, with progress p advanced by 1/nSteps:
   strain gains the last step's rate times dt (what the cell did since);
 * the cell: with trsf T = U P (polar decomposition, U a rotation), P <- P + U^T (dt rate tensor) U, the next T
   is U P and the velocity gradient is (T_next T^-1 - 1)/dt;
-* a step that starts with p >= 1 or a strain beyond ``maxStrain`` runs the engine's Python hook (doneHook, or
-  the engine is set dead when there is none) after it; the step itself goes on as any other (YADE runs the
-  hook at the start of that step, so O.iter reads one less there).
+* a step that ends with p >= 1 (the sum of the 1/nSteps, rounding included) or a strain beyond ``maxStrain``
+  runs the engine's Python hook after it (doneHook, or the engine is set dead when there is none); YADE runs
+  it inside the step, where O.iter reads one less.
 
 Strain paths, the rate, the strain vector and the velocity gradient are YADE 2023.02a's as measured
 (``tests/reference/yade/peri3d.py``), so are the stress predictor's first steps on a shared packing.
@@ -173,11 +173,6 @@ def peri3d_stage(S, C, P):
     for k in range(6):
         i, j = VOIGT[k]
         out[Q_STRESS + k] = triax[O_TENSOR + 3 * i + j]
-    # finished before this step (YADE runs the hook at the start of the next step, then goes on)
-    done = out[Q_PROGRESS] >= 1.0 - 1e-12
-    for k in range(6):
-        if abs(out[Q_STRAIN + k]) > P.max_strain:
-            done = True
     first = out[Q_STEPS_DONE] == 0.0
     if first:
         for k in range(6):
@@ -251,5 +246,10 @@ def peri3d_stage(S, C, P):
                 acc += row * tinv[a, j]
             S.cell_velgrad[i, j] = (acc - (1.0 if i == j else 0.0)) / dt
     out[Q_STEPS_DONE] += 1.0
+    # finished: progress summed to 1 (0.1 ten times is 0.999..., so YADE's 10-step run ends one step later)
+    done = out[Q_PROGRESS] >= 1.0
+    for k in range(6):
+        if abs(out[Q_STRAIN + k]) > P.max_strain:
+            done = True
     if done:
         S.iscal[SI_HOOK] = P.hook_id
