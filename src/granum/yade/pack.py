@@ -707,8 +707,9 @@ class SpherePack:
                 if len(rad) - n_old < num:
                     warnings.warn(f"makeCloud: exceeded {MAX_TRY} tries to insert a non-overlapping sphere; "
                                   f"only {len(rad) - n_old} of {num} spheres were added", stacklevel=2)
-            else:
-                pos, rad = fill(cdf=np.array([0.0, 1.0]), rtab=np.array([rlo, rhi]))
+            else:   # uniform in size, or with distributeMass in mass (YADE's examples/test/psd.py)
+                cdf, rtab = _packing.psd_table([2.0 * rlo, 2.0 * rhi], [0.0, 1.0], distributeMass)
+                pos, rad = fill(cdf=cdf, rtab=rtab, mass=distributeMass)
         elif num > 0:
             attempt = 0
             while True:
