@@ -45,7 +45,8 @@ class PeriTriaxController(GlobalEngine):
         "globUpdate": Attr(5, "Recompute the stress every this many steps", to_int("globUpdate")),
         "doneHook": Attr("", "Python source run when the goal is reached", to_str("doneHook")),
         "dynCell": Attr(False, "Let the cell obey an equation of motion with mass ``mass``", to_bool),
-        "mass": Attr(float("nan"), "Mass of the cell [kg] (default: the mass of all bodies)", to_float("mass")),
+        "mass": Attr(float("nan"), "Inertia of the cell's strain rate, d rate/dt = (goal - stress)/mass [Pa s^2] "
+                                          "(default: the mass of all bodies)", to_float("mass")),
     }
 
     @property
