@@ -27,7 +27,7 @@ import operator
 
 import numpy as np
 
-__all__ = ["Matrix3", "Quaternion", "Vector2", "Vector2i", "Vector3", "Vector3i", "Vector6",
+__all__ = ["Matrix3", "Quaternion", "Vector2", "Vector2i", "Vector3", "Vector3i", "Vector6", "Vector6i",
            "as_array", "as_mat3", "as_quat_wxyz", "as_vec3"]
 
 
@@ -404,6 +404,14 @@ class Vector6(_Vector, _Real):
 
     def tail(self):
         return Vector3._new(self._a[3:].copy())
+
+
+class Vector6i(_Vector):
+    """6D integer vector; storage int64 ``(v0 .. v5)``."""
+
+    __slots__ = ()
+    _shape, _what = (6,), "6-vector of integers"
+    _dtype, _kinds, _scalar, _noun = np.int64, "biu", numbers.Integral, "an integer"
 
 
 class Matrix3(_Real):

@@ -68,6 +68,7 @@ def _scene_fields() -> list[tuple[str, str, int]]:
         ("cell_prev_velgrad", "f8", 2),  # velocity gradient of the previous step [1/s], (3, 3)
         ("cell_trsf", "f8", 2),     # accumulated deformation gradient F [-], (3, 3)
         ("cell_bound_hsize", "f8", 2),  # hSize when the collider last ran [m], (3, 3)
+        ("cell_prev_hsize", "f8", 2),   # hSize before the current step's deformation (YADE prevHSize) [m], (3, 3)
         ("clump_members", "i4", 1),  # member ids of all clumps (see the shape table clump_member_first/count), (M,)
         ("scal", "f8", 1),          # float scalars S_*, (NSCAL,)
         ("iscal", "i8", 1),         # integer scalars I_*, (NSISCAL,)

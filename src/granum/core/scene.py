@@ -109,6 +109,7 @@ class Scene(BodyStore):
         self.cell_trsf = np.eye(3)
         self.cell_ref_hsize = np.eye(3)
         self.cell_bound_hsize = np.eye(3)
+        self.cell_prev_hsize = np.eye(3)
         self.iscal[SI_HOMO_DEFORM] = 2
         self.born = Table(BORN_COLUMNS, 64)  # per body id, beside the body table (not a kernel input)
         self.engines: list = []
@@ -254,7 +255,8 @@ class Scene(BodyStore):
             values.update({shape_type(kind).record_field(c.name): table.stored(c.name) for c in table.columns})
         values.update(mat_kind=mat_kind, mat=mat, cell_hsize=self.cell_hsize, cell_velgrad=self.cell_velgrad,
                       cell_prev_velgrad=self.cell_prev_velgrad, cell_trsf=self.cell_trsf,
-                      cell_bound_hsize=self.cell_bound_hsize, clump_members=self.clump_members.id,
+                      cell_bound_hsize=self.cell_bound_hsize, cell_prev_hsize=self.cell_prev_hsize,
+                      clump_members=self.clump_members.id,
                       scal=self.scal, iscal=self.iscal, energy=self.energy, energy_set=self.energy_set)
         arrays = [values[n] for n in SCENE.names]
         # an array is identified by its storage and shape; empty ones (lazy columns not in use, made

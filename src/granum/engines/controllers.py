@@ -1,13 +1,17 @@
-"""Boundary controllers: PeriTriaxController (stress/strain control of the periodic cell)."""
+"""Boundary controllers of the periodic cell: PeriTriaxController (stress/strain control), PeriIsoCompressor
+(isotropic compression through a series of stresses)."""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-from granum.core.attrs import Attr, to_bool, to_float, to_int, to_str
+from granum.core.attrs import Attr, as_number, to_bool, to_float, to_int, to_str
 from granum.engines.base import GlobalEngine
 from granum.engines.pipeline import to_vec3
 from granum.kernels import controllers as k
+from granum.kernels import periiso as pk
 from granum.mathtypes import Matrix3, Vector3
 
 
@@ -41,7 +45,8 @@ class PeriTriaxController(GlobalEngine):
         "globUpdate": Attr(5, "Recompute the stress every this many steps", to_int("globUpdate")),
         "doneHook": Attr("", "Python source run when the goal is reached", to_str("doneHook")),
         "dynCell": Attr(False, "Let the cell obey an equation of motion with mass ``mass``", to_bool),
-        "mass": Attr(float("nan"), "Mass of the cell [kg] (default: the mass of all bodies)", to_float("mass")),
+        "mass": Attr(float("nan"), "Inertia of the cell's strain rate, d rate/dt = (goal - stress)/mass [Pa s^2] "
+                                          "(default: the mass of all bodies)", to_float("mass")),
     }
 
     @property
@@ -99,3 +104,93 @@ class PeriTriaxController(GlobalEngine):
     @property
     def currUnbalanced(self) -> float:
         return float(self._out[k.O_UNBALANCED])
+
+
+def _stresses(owner, value):
+    try:
+        values = [as_number(v, f"{type(owner).__name__}.stresses") for v in value]
+    except TypeError:
+        if isinstance(value, str) or not hasattr(value, "__iter__"):
+            raise TypeError(f"{type(owner).__name__}.stresses must be a list of stresses [Pa], got {value!r}") from None
+        raise
+    bad = [v for v in values if not (math.isfinite(v) and v != 0.0)]
+    if bad:
+        raise ValueError(f"{type(owner).__name__}.stresses must be finite and non-zero (a relative tolerance is "
+                         f"taken on each), got {bad[0]!r}")
+    return values
+
+
+def _iso_state(slot: int, doc: str, convert=None):
+    """A value of PeriIsoCompressor's state array exposed as an attribute (writable when ``convert``)."""
+
+    def get(self):
+        v = float(self._out[slot])
+        return int(v) if slot == pk.P_STATE else v
+
+    def set_(self, value):
+        self._out[slot] = convert(self, value)
+
+    return property(get, set_ if convert else None, doc=doc)
+
+
+class PeriIsoCompressor(GlobalEngine):
+    """Compress (or decompress) a periodic cloud by resizing the cell until the mean stress reaches each of
+    ``stresses`` in turn, then run ``doneHook`` (see :mod:`granum.kernels.periiso` for the servo).
+
+    A failure of the servo (a cell smaller than 2.1 ``maxSpan``) raises RuntimeError after the step.
+    """
+
+    stage = "granum.kernels.periiso:peri_iso_stage"
+    _attrs = {
+        "stresses": Attr([], "Stresses to reach, one after another [Pa] (compression negative)", _stresses),
+        "maxUnbalanced": Attr(1e-4, "Unbalanced force below which the packing counts as stable [-]",
+                              to_float("maxUnbalanced", allow_nan=False)),
+        "globalUpdateInt": Attr(20, "Recompute the unbalanced force every this many steps",
+                                to_int("globalUpdateInt", minimum=1)),
+        "doneHook": Attr("", "Python source run when the last stress is reached", to_str("doneHook")),
+        "keepProportions": Attr(True, "Control the mean stress and keep the cell's proportions", to_bool),
+    }
+
+    def __init__(self, **kw):
+        out = np.zeros(pk.P_SIZE)
+        out[[pk.P_UNBALANCED, pk.P_CHARLEN, pk.P_MAXSPAN]] = -1.0
+        object.__setattr__(self, "_out", out)
+        super().__init__(**kw)
+
+    charLen = _iso_state(pk.P_CHARLEN, "Characteristic length [m] (the mean particle diameter; -1: from the "
+                                       "bound of body 0 at the first step)", to_float("charLen", allow_nan=False))
+    maxSpan = _iso_state(pk.P_MAXSPAN, "Largest extent of a bound [m], which the cell stays 2.1 times larger "
+                                       "than (-1: measured at the first step)", to_float("maxSpan", allow_nan=False))
+    state = _iso_state(pk.P_STATE, "Index of the stress being reached in ``stresses``",
+                       to_int("state", minimum=0))
+    currUnbalanced = _iso_state(pk.P_UNBALANCED, "The last unbalanced force computed [-] (-1: none yet)")
+
+    @property
+    def sigma(self) -> Vector3:
+        """Stress per axis [Pa]: the sum of |contact force| components over the face area, negative."""
+        return Vector3(*self._out[pk.P_SIGMA:pk.P_SIGMA + 3])
+
+    def params(self, scene, engines) -> pk.PeriIsoParams:
+        if not scene.periodic:
+            raise RuntimeError("PeriIsoCompressor needs a periodic scene (O.periodic = True)")
+        return pk.PeriIsoParams(
+            stresses=np.array(self.stresses, dtype=np.float64), max_unbalanced=float(self.maxUnbalanced),
+            global_update_int=int(self.globalUpdateInt), keep_proportions=bool(self.keepProportions),
+            hook_id=int(self._plan_index), out=self._out)
+
+    def run_hook(self, omega) -> None:
+        error = int(self._out[pk.P_ERROR])
+        if error:
+            self._out[pk.P_ERROR] = 0
+            raise RuntimeError(_ISO_ERRORS[error])
+        if self.doneHook:
+            exec(self.doneHook, omega.namespace())
+
+
+_ISO_ERRORS = {   # YADE's messages
+    pk.ERR_NO_BOUND: "PeriIsoCompressor: body 0 has no bound to take charLen from; set charLen",
+    pk.ERR_CELL_SMALL: "Minimum cell size is smaller than 2.1*span_of_the_biggest_body! (periodic collider "
+                       "requirement)",
+    pk.ERR_NO_SHRINK: "Unable to shrink cell due to maximum body size (although required by stress condition). "
+                      "Increase particle rigidity, increase total sample dimensions, or decrease goal stress.",
+}

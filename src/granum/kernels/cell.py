@@ -5,7 +5,8 @@ The cell is deformed by its velocity gradient L (YADE ``Cell.velGrad``) with
 (``hSize``) and the deformation gradient F (``trsf``). As in YADE, the update at
 the start of a step uses the gradient of the previous step, and the gradient
 that bodies follow (velocity jumps in NewtonIntegrator) is the current one; the
-previous gradient is recorded at the end of each step.
+previous gradient is recorded at the end of each step, the base vectors before the deformation
+(``prevHSize``) at its start.
 """
 
 from __future__ import annotations
@@ -33,6 +34,7 @@ def step_begin(S):
     """Deform the periodic cell by the velocity gradient of the previous step."""
     if S.iscal[SI_PERIODIC]:
         dt = S.scal[S_DT]
+        copy_rows(S.cell_prev_hsize, S.cell_hsize, 3)
         deform(S.cell_hsize, S.cell_prev_velgrad, dt)
         deform(S.cell_trsf, S.cell_prev_velgrad, dt)
 

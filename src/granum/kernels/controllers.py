@@ -8,9 +8,9 @@ logarithmic strain eps_k = ln F_kk. Per step:
   negative) and the stiffness modulus along k is K_k = (1/V) sum_c kn (n_k l_k)^2,
   the stress change per unit strain of affine contacts;
 * strain axis: the rate that reaches the goal in one step, limited by maxStrainRate;
-* stress axis, ``dynCell``: the cell face of area A_k = V / |H_k| has mass M and
-  moves with v_k = L_kk |H_k| under the net force (goal - sigma_kk) A_k (tension
-  positive outward), with Cundall's damping growDamping on its acceleration;
+* stress axis, ``dynCell``: the strain rate obeys d L_kk / dt = (goal - sigma_kk) / M with
+  Cundall's damping growDamping on that acceleration (YADE 2023.02a's rule, measured step by
+  step: the "mass" M scales a stress, not a force, and the cell's size does not enter);
 * stress axis otherwise: the rate (goal - sigma_kk) / (K_k dt) scaled by
   (1 - growDamping), i.e. the affine estimate of the rate that reaches the goal;
 * the goal is reached when every stress is within max(absStressTol, relStressTol |goal|),
@@ -54,7 +54,7 @@ class PeriTriaxParams(NamedTuple):
     grow_damping: float     #: damping of the cell's motion [-]
     glob_update: int        #: the stress is recomputed every this many steps
     dyn_cell: bool          #: the cell obeys an equation of motion with mass ``mass``
-    mass: float             #: mass of the cell [kg]
+    mass: float             #: inertia of the strain rate, d rate/dt = (goal - stress)/mass [Pa s^2]
     hook_id: int            #: what the stage writes to ``iscal[SI_HOOK]`` when the goal is reached
     out: np.ndarray         #: the controller's output, slots O_*, (O_SIZE,) float64; written by the stage
 
@@ -89,7 +89,14 @@ def contact_stress(S, C, out):
         out[O_STRESS + a] = sig[a, a] / vol
         for b in range(3):
             out[O_TENSOR + 3 * a + b] = sig[a, b] / vol
-    # unbalanced force: mean resultant on free bodies over the mean contact force
+    out[O_UNBALANCED] = unbalanced_force(S, fsum, nc)
+    return vol
+
+
+@jit
+def unbalanced_force(S, fsum, nc):
+    """YADE's unbalanced force: the mean resultant force on free bodies over the mean contact force
+    (``fsum``: the sum of |f| over the ``nc`` live contacts) [-]; NaN without contacts or free bodies."""
     res = 0.0
     nfree = 0
     alive, blocked, clump_id, force = S.alive, S.blocked, S.clump_id, S.force
@@ -97,8 +104,7 @@ def contact_stress(S, C, out):
         if alive[i] and blocked[i] != DOF_ALL and (clump_id[i] < 0 or clump_id[i] == i):
             res += math.sqrt(force[i, 0] ** 2 + force[i, 1] ** 2 + force[i, 2] ** 2)
             nfree += 1
-    out[O_UNBALANCED] = (res / nfree) / (fsum / nc) if nc > 0 and nfree > 0 and fsum > 0 else math.nan
-    return vol
+    return (res / nfree) / (fsum / nc) if nc > 0 and nfree > 0 and fsum > 0 else math.nan
 
 
 @jit
@@ -110,26 +116,22 @@ def peri_triax_stage(S, C, P):
     goal, max_rate, grow_damp, out = P.goal, P.max_rate, P.grow_damping, P.out
     dt = S.scal[S_DT]
     if P.glob_update <= 1 or S.iscal[SI_ITER] % P.glob_update == 0 or not out[O_UNBALANCED] == out[O_UNBALANCED]:
-        vol = contact_stress(S, C, out)
-    else:
-        vol = det3(S.cell_hsize)
+        contact_stress(S, C, out)
     done = out[O_UNBALANCED] < P.max_unbalanced
     for k in range(3):
         out[O_STRAIN + k] = math.log(S.cell_trsf[k, k])
-        size = math.sqrt(S.cell_hsize[0, k] ** 2 + S.cell_hsize[1, k] ** 2 + S.cell_hsize[2, k] ** 2)
         rate = S.cell_velgrad[k, k]
         if P.stress_mask >> k & 1:
             err = goal[k] - out[O_STRESS + k]
             if abs(err) > max(P.abs_tol, P.rel_tol * abs(goal[k])):
                 done = False
             if P.dyn_cell:
-                acc = err * (vol / size) / P.mass
-                v = rate * size
-                if acc * v > 0.0:
+                acc = err / P.mass   # YADE's rule, measured: the strain rate itself is the cell's velocity
+                if acc * rate > 0.0:
                     acc *= 1.0 - grow_damp
-                elif acc * v < 0.0:
+                elif acc * rate < 0.0:
                     acc *= 1.0 + grow_damp
-                rate = (v + acc * dt) / size
+                rate += acc * dt
             elif out[O_STIFF + k] > 0.0:
                 rate = (1.0 - grow_damp) * err / (out[O_STIFF + k] * dt)
             else:

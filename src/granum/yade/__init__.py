@@ -24,7 +24,7 @@ from future import standard_library as _standard_library
 
 from granum import idem
 from granum.engines.base import Engine, GlobalEngine, PartialEngine, PeriodicEngine
-from granum.engines.controllers import PeriTriaxController
+from granum.engines.controllers import PeriIsoCompressor, PeriTriaxController
 from granum.engines.cpm import CpmStateUpdater
 from granum.engines.domain import DomainLimiter
 from granum.engines.fields import (
@@ -52,6 +52,7 @@ from granum.engines.kinematic import (
     TranslationEngine,
 )
 from granum.engines.parallel import ParallelEngine
+from granum.engines.peri3d import Peri3dController
 from granum.engines.pipeline import (
     BoundDispatcher,
     Dispatcher,
@@ -69,7 +70,7 @@ from granum.engines.runner import SimulationError
 from granum.engines.timestepper import GlobalStiffnessTimeStepper, TimeStepper
 from granum.engines.triaxial import TriaxialStressController
 from granum.idem import IDEMSolver
-from granum.mathtypes import Matrix3, Quaternion, Vector2, Vector2i, Vector3, Vector3i, Vector6
+from granum.mathtypes import Matrix3, Quaternion, Vector2, Vector2i, Vector3, Vector3i, Vector6, Vector6i
 from granum.physics.matchmaker import MatchMaker
 from granum.yade import (  # noqa: F401 - the yade.X modules (_laws: the law classes' accumulators and counts)
     _laws,
@@ -134,7 +135,9 @@ _namespace.update(
     PeriodicEngine=PeriodicEngine, Functor=Functor, BoundFunctor=BoundFunctor, IGeomFunctor=IGeomFunctor,
     IPhysFunctor=IPhysFunctor, LawFunctor=LawFunctor, ForceResetter=ForceResetter, GravityEngine=GravityEngine,
     InsertionSortCollider=InsertionSortCollider, InteractionLoop=InteractionLoop, NewtonIntegrator=NewtonIntegrator,
-    PyRunner=PyRunner, PeriTriaxController=PeriTriaxController, Dispatcher=Dispatcher,
+    PyRunner=PyRunner, PeriTriaxController=PeriTriaxController, PeriIsoCompressor=PeriIsoCompressor,
+    Peri3dController=Peri3dController,
+    Dispatcher=Dispatcher,
     BoundDispatcher=BoundDispatcher, IGeomDispatcher=IGeomDispatcher, IPhysDispatcher=IPhysDispatcher,
     LawDispatcher=LawDispatcher, TimeStepper=TimeStepper, GlobalStiffnessTimeStepper=GlobalStiffnessTimeStepper,
     TriaxialStressController=TriaxialStressController, Recorder=Recorder,
@@ -151,7 +154,7 @@ _namespace.update(
     CpmStateUpdater=CpmStateUpdater, CpmState=CpmState,
     SimulationError=SimulationError, Body=Body, State=State, Shape=Shape, Aabb=Aabb, Cell=Cell,
     Interaction=Interaction, Vector2=Vector2, Vector2i=Vector2i, Vector3=Vector3,
-    Vector3i=Vector3i, Vector6=Vector6, Matrix3=Matrix3, Quaternion=Quaternion,
+    Vector3i=Vector3i, Vector6=Vector6, Vector6i=Vector6i, Matrix3=Matrix3, Quaternion=Quaternion,
     readParamsFromTable=readParamsFromTable, waitIfBatch=waitIfBatch, runningInBatch=runningInBatch,
     utils=utils, geom=geom, pack=pack, plot=plot, qt=qt, timing=timing, ymport=ymport, export=export,
     gts=gts,  # PyGTS: YADE's scripts find it without importing

@@ -39,6 +39,8 @@ __all__ = ["clump_fill", "inverse_cdf", "inverse_cdf_many", "psd_table", "rsa_fi
 
 #: Upper bound on the number of grid cells (memory: 8 bytes each).
 _MAX_CELLS = 1 << 22
+#: ``shear`` of an axis-aligned domain
+_NO_SHEAR = np.zeros((0, 0))
 
 
 @jit
@@ -138,8 +140,13 @@ def _cell_of(p, lo, inv_w, nc, per):
 
 
 @jit
-def _overlaps(p, r, pos, rad, head, nxt, lo, inv_w, nc, per, length):
-    """True if a sphere (``p``, ``r``) overlaps any sphere stored in the grid."""
+def _overlaps(p, r, pos, rad, head, nxt, lo, inv_w, nc, per, length, shear):
+    """True if a sphere (``p``, ``r``) overlaps any sphere stored in the grid.
+
+    ``shear`` (3, 3) non-empty: positions are fractional coordinates of the sheared periodic cell whose base
+    vectors are its columns (``lo`` 0, ``length`` 1); a distance is ``shear`` times the minimum image of the
+    fractional difference (the true nearest image while spheres span under half a cell layer, which the grid
+    of at least one diameter per cell and the callers' check ensure)."""
     ci = np.empty(3, np.int64)
     for d in range(3):
         c = int(np.floor((p[d] - lo[d]) * inv_w[d]))
@@ -175,11 +182,22 @@ def _overlaps(p, r, pos, rad, head, nxt, lo, inv_w, nc, per, length):
                 j = head[(x * nc[1] + y) * nc[2] + z]
                 while j >= 0:
                     d2 = 0.0
-                    for d in range(3):
-                        dx = p[d] - pos[j, d]
-                        if per and length[d] > 0.0:
-                            dx -= length[d] * np.round(dx / length[d])  # minimum image
-                        d2 += dx * dx
+                    if shear.shape[0] == 3:
+                        f0 = p[0] - pos[j, 0]
+                        f1 = p[1] - pos[j, 1]
+                        f2 = p[2] - pos[j, 2]
+                        f0 -= np.round(f0)
+                        f1 -= np.round(f1)
+                        f2 -= np.round(f2)
+                        for d in range(3):
+                            dx = shear[d, 0] * f0 + shear[d, 1] * f1 + shear[d, 2] * f2
+                            d2 += dx * dx
+                    else:
+                        for d in range(3):
+                            dx = p[d] - pos[j, d]
+                            if per and length[d] > 0.0:
+                                dx -= length[d] * np.round(dx / length[d])  # minimum image
+                            d2 += dx * dx
                     rr = r + rad[j]
                     if d2 < rr * rr:
                         return True
@@ -228,13 +246,15 @@ def _grid_reserve(pos, rad, nxt, n, need):
 
 
 @jit
-def rsa_fill(pos0, rad0, lo, length, per, radii, cdf, rtab, mass, max_try, seed):
+def rsa_fill(pos0, rad0, lo, length, per, radii, cdf, rtab, mass, max_try, seed, shear):
     """Append non-overlapping spheres to (``pos0`` (N0,3), ``rad0`` (N0,)) until the first failure.
 
     Domain: the box ``lo`` .. ``lo + length`` (3,). Non-periodic: centres drawn so that the
     sphere lies inside the box (an axis of zero length is a 2D packing: that coordinate
     stays ``lo``). Periodic (``per``): centres anywhere in ``[lo, lo + length)`` and the
-    overlap test uses the minimum image.
+    overlap test uses the minimum image. ``shear`` (3, 3) non-empty: a sheared periodic cell
+    (base vectors as columns), ``lo`` 0, ``length`` 1, ``per``; positions in and out are
+    fractional coordinates (see :func:`_overlaps`).
 
     Radii: ``radii`` (M,) if M > 0, placed in that order (at most M spheres); otherwise one
     radius per sphere drawn through :func:`inverse_cdf` with (``cdf``, ``rtab``, ``mass``),
@@ -254,7 +274,26 @@ def rsa_fill(pos0, rad0, lo, length, per, radii, cdf, rtab, mass, max_try, seed)
     else:
         for i in range(len(rtab)):
             rmax = max(rmax, rtab[i])
-    nc, inv_w = _grid_dims(length, rmax)
+    if shear.shape[0] == 3:
+        # cells at least one diameter thick: the layer thickness along k is the volume over the area of the
+        # face spanned by the two other base vectors (1 / |row k of shear^-1|)
+        thick = np.empty(3)
+        vol = 0.0
+        for d in range(3):
+            a, b = (d + 1) % 3, (d + 2) % 3
+            cx = shear[1, a] * shear[2, b] - shear[2, a] * shear[1, b]
+            cy = shear[2, a] * shear[0, b] - shear[0, a] * shear[2, b]
+            cz = shear[0, a] * shear[1, b] - shear[1, a] * shear[0, b]
+            if d == 0:
+                vol = shear[0, 0] * cx + shear[1, 0] * cy + shear[2, 0] * cz
+            thick[d] = vol / np.sqrt(cx * cx + cy * cy + cz * cz)
+        if 4.0 * rmax > min(thick[0], thick[1], thick[2]):
+            raise ValueError("makeCloud: a sphere diameter exceeds half a layer of the sheared cell hSize")
+        nc, inv_w = _grid_dims(thick, rmax)
+        for d in range(3):
+            inv_w[d] = nc[d]
+    else:
+        nc, inv_w = _grid_dims(length, rmax)
     cap = max(16, 2 * n0 + (len(radii) if given else 1024))
     pos, rad, nxt, head = _grid_new(pos0, rad0, cap, lo, inv_w, nc, per)
     n = n0
@@ -279,7 +318,7 @@ def rsa_fill(pos0, rad0, lo, length, per, radii, cdf, rtab, mass, max_try, seed)
                     p[d] = lo[d] + u * length[d]
                 else:
                     p[d] = lo[d] + r + u * (length[d] - 2.0 * r)
-            if not _overlaps(p, r, pos, rad, head, nxt, lo, inv_w, nc, per, length):
+            if not _overlaps(p, r, pos, rad, head, nxt, lo, inv_w, nc, per, length, shear):
                 placed = True
                 break
         if not placed:
@@ -373,7 +412,7 @@ def clump_fill(pos0, rad0, lo, length, per, tpl_start, tpl_rel, tpl_rad, num, ma
                                            + R[d, 2] * tpl_rel[s0 + j, 2])
                     if not per and (cand[j, d] - r < lo[d] or cand[j, d] + r > lo[d] + length[d]):
                         ok = False
-                if ok and _overlaps(cand[j], r, pos, rad, head, nxt, lo, inv_w, nc, per, length):
+                if ok and _overlaps(cand[j], r, pos, rad, head, nxt, lo, inv_w, nc, per, length, _NO_SHEAR):
                     ok = False
                 if not ok:
                     break

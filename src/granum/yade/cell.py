@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from granum.core import validate
+from granum.core.contacts import C_CONTACTS, I_CELL
 from granum.mathtypes import Matrix3, Vector3, as_mat3, as_vec3
 from granum.physics.vec import det3 as _compiled_det3
 
@@ -20,6 +21,22 @@ det3 = _compiled_det3.py_func
 
 def _matrix(a) -> Matrix3:
     return Matrix3(*np.asarray(a, dtype=float).ravel())
+
+
+def flip_matrix(h) -> np.ndarray:
+    """The integer matrix F of :meth:`Cell.flipCell` for base vectors ``h`` (3, 3) as columns: each column
+    c_i in turn (x, y, z) is projected on the plane of the two others (as already flipped), its coordinates
+    (a, b) in their basis rounded half up, floor(a + 1/2), and that lattice vector subtracted."""
+    cols = [np.array(h[:, k], dtype=float) for k in range(3)]
+    flip = np.eye(3, dtype=np.int64)
+    for i in range(3):
+        j, k = (m for m in range(3) if m != i)
+        gram = np.array([[cols[j] @ cols[j], cols[j] @ cols[k]], [cols[k] @ cols[j], cols[k] @ cols[k]]])
+        a, b = np.floor(np.linalg.solve(gram, [cols[i] @ cols[j], cols[i] @ cols[k]]) + 0.5).astype(np.int64)
+        if a or b:
+            cols[i] = cols[i] - a * cols[j] - b * cols[k]
+            flip[:, i] -= a * flip[:, j] + b * flip[:, k]
+    return flip
 
 
 class DegenerateCellError(ValueError, RuntimeError):
@@ -64,6 +81,7 @@ class Cell:
         s = self._scene
         s.cell_hsize[:] = h
         s.cell_ref_hsize[:] = h
+        s.cell_prev_hsize[:] = h
         # the collider runs again; cell_bound_hsize stays the cell its pairs' budgets were measured from
         s.needs_collider()
 
@@ -85,6 +103,64 @@ class Cell:
             raise ValueError(f"Cell.setBox: sizes must be positive, got {tuple(size)}")
         self.hSize = np.diag(size)
         self._scene.cell_trsf[:] = np.eye(3)
+
+    @property
+    def prevHSize(self) -> Matrix3:
+        """Base vectors before the last step's deformation [m] (hSize when it was assigned)."""
+        return _matrix(self._scene.cell_prev_hsize)
+
+    @property
+    def shearTrsf(self) -> Matrix3:
+        """The cell's skew and rotation: hSize with unit columns [-]."""
+        h = self._scene.cell_hsize
+        return _matrix(h / np.linalg.norm(h, axis=0))
+
+    @property
+    def unshearTrsf(self) -> Matrix3:
+        """Inverse of :attr:`shearTrsf` [-]."""
+        return _matrix(np.linalg.inv(np.asarray(self.shearTrsf)))
+
+    @property
+    def velGradChanged(self) -> bool:
+        """Whether velGrad differs from the gradient of the last step (then bodies get a velocity jump)."""
+        s = self._scene
+        return not np.array_equal(s.cell_velgrad, s.cell_prev_velgrad)
+
+    @property
+    def flipFlippable(self) -> bool:
+        """Flip the cell automatically whenever a more compact one is possible: not implemented in granum
+        (False; assigning True is refused). Call :meth:`flipCell` from a PyRunner instead."""
+        return False
+
+    @flipFlippable.setter
+    def flipFlippable(self, value) -> None:
+        if value:
+            raise NotImplementedError("Cell.flipFlippable=True (automatic flipping at each step) is not implemented "
+                                      "in granum; call O.cell.flipCell() from a PyRunner instead")
+
+    def flipCell(self) -> Matrix3:
+        """Replace the base vectors by an equivalent, more compact set of the same lattice (the periodic
+        images are the same points): each column in turn, x then y then z, loses the lattice vector of the
+        two others nearest to its projection on their plane (:func:`flip_matrix`). Returns
+        the integer matrix F (new hSize = hSize F); the periodic images of the contacts (cellDist) become
+        F^-1 cellDist, so every contact keeps its branch, and the collider runs again. Positions, trsf and
+        refHSize are unchanged (YADE's rules, checked on its results)."""
+        s = self._scene
+        flip = flip_matrix(s.cell_hsize)
+        if np.array_equal(flip, np.eye(3)):
+            return _matrix(flip)
+        inv = np.rint(np.linalg.inv(flip)).astype(np.int64)
+        s.cell_hsize[:] = s.cell_hsize @ flip
+        s.cell_prev_hsize[:] = s.cell_prev_hsize @ flip
+        s.cell_bound_hsize[:] = s.cell_bound_hsize @ flip
+        C = s.contacts
+        if C.con_i.shape[1] > I_CELL:
+            rows = slice(0, int(C.ctr[C_CONTACTS]))
+            C.con_i[rows, I_CELL:I_CELL + 3] = C.con_i[rows, I_CELL:I_CELL + 3] @ inv.T
+        if C.pair_cell.shape[0]:
+            C.pair_cell[:] = C.pair_cell @ inv.T
+        s.needs_collider()
+        return _matrix(flip)
 
     @property
     def size(self) -> Vector3:

@@ -10,17 +10,18 @@ import math
 
 import numpy as np
 
-from granum.core.contacts import C_PAIRS, F_FN, F_FS, F_PEN, I_ID1, I_ID2
+from granum.core.contacts import C_PAIRS, F_FN, F_FS, F_KN, F_KS, F_PEN, I_ID1, I_ID2
 from granum.core.shapes import ShapeKind
 from granum.mathtypes import Vector3, as_vec3
 from granum.yade.formulas import rotate
 from granum.yade.omega import O
-from granum.yade.utils import _live_contacts, _not_member, _spheres, aabbExtrema
+from granum.yade.utils import _live_contacts, _not_member, _spheres, aabbExtrema, getStress
 
 __all__ = [
     "momentum", "angularMomentum", "aabbDim", "fractionalBox", "perpendicularArea", "sumFacetNormalForces",
     "forcesOnPlane", "forcesOnCoordPlane", "maxOverlapRatio", "psd", "sumTorques", "numIntrsOfEachBody",
-    "getBodyIdsContacts", "negPosExtremeIds", "getSpheresVolume2D",
+    "getBodyIdsContacts", "negPosExtremeIds", "getSpheresVolume2D", "totalForceInVolume",
+    "stressTensorOfPeriodicCell", "flipCell",
 ]
 
 
@@ -196,3 +197,26 @@ def getSpheresVolume2D(mask=-1) -> float:
     """Total area of the spheres taken as discs, sum pi r^2 [m^2]."""
     _, r = _spheres(mask)
     return float(math.pi * (r ** 2).sum())
+
+
+def totalForceInVolume():
+    """``(Vector3 F, K)``: F_k the sum over live contacts of |f_k|, f = fn + fs [N] (PeriIsoCompressor's
+    measure), and K the mean of kn/3 + 2 ks/3 over them [N/m] (-1 without contacts)."""
+    C, rows = _live_contacts()
+    f = C.con_f[rows, F_FN:F_FN + 3] + C.con_f[rows, F_FS:F_FS + 3]
+    k = C.con_f[rows, F_KN] / 3.0 + 2.0 * C.con_f[rows, F_KS] / 3.0
+    return Vector3(*np.abs(f).sum(axis=0)), float(k.mean()) if rows.size else -1.0
+
+
+def stressTensorOfPeriodicCell(volume=0):
+    """The Love-Weber stress tensor [Pa], as :func:`getStress` (YADE's deprecated name)."""
+    return getStress(volume)
+
+
+def flipCell():
+    """``O.cell.flipCell()`` (YADE's deprecated utils function, which takes no argument)."""
+    import warnings
+
+    warnings.warn("flipCell from utils module is deprecated, use O.cell.flipCell() or O.cell.flipFlippable=True "
+                  "instead", DeprecationWarning, stacklevel=2)
+    return O.cell.flipCell()

@@ -40,18 +40,20 @@ import warnings
 import numpy as np
 
 from granum.mathtypes import Matrix3, Quaternion, Vector3, as_mat3, as_vec3
-from granum.yade import _clumpcloud, _packing
+from granum.yade import _clumpcloud, _densepack, _packing
 
 __all__ = [
     "Predicate", "PredicateBoolean", "PredicateDifference", "PredicateIntersection",
     "PredicateSymmetricDifference", "PredicateUnion", "SpherePack", "inAlignedBox", "inCylinder",
     "inEllipsoid", "inHyperboloid", "inParallelepiped", "inSpace", "inSphere", "notInNotch",
     "regularHexa", "regularHexaCenters", "regularOrtho", "regularOrthoCenters",
+    "filterSpherePack", "randomDensePack", "randomPeriPack",
 ]
 
 #: Positions tried for one sphere before makeCloud gives up (YADE's value, from its warning).
 MAX_TRY = 1000
 _INF = np.full(3, np.inf)
+_NO_SHEAR = _packing._NO_SHEAR
 
 
 def _V(a) -> Vector3:
@@ -532,6 +534,34 @@ class SpherePack:
         self._cell = as_vec3(value)
         self.isPeriodic = bool(np.any(self._cell != 0))
 
+    def cellRepeat(self, count):
+        """Repeat the periodic packing ``count`` (3 positive ints) times along the cell's axes; ``cellSize``
+        grows accordingly. RuntimeError for an aperiodic pack."""
+        if not self.isPeriodic:
+            raise RuntimeError("cellRepeat cannot be used on non-periodic packing.")
+        n = _densepack.repeat_counts(count)
+        if self.hasClumps():
+            raise NotImplementedError("SpherePack.cellRepeat of a pack with clumps is not implemented in granum")
+        c, r = _densepack.repeated(self._c[: self._n], self._r[: self._n], self._cell, n)
+        self._set(c, r)
+        self._cell = self._cell * n
+
+    def cellFill(self, size):
+        """Repeat the periodic packing until its cell is at least ``size`` along each axis (``cellRepeat`` by
+        ceil(size / cellSize), at least once). RuntimeError for an aperiodic pack."""
+        if not self.isPeriodic:
+            raise RuntimeError("cellRepeat cannot be used on non-periodic packing.")
+        self.cellRepeat(np.maximum(1, np.ceil(as_vec3(size) / self._cell)).astype(np.int64))
+
+    def psd(self, bins=50, mass=True):
+        """Particle size distribution: ``(edges, cumm)``, ``bins + 1`` diameters from the smallest to the
+        largest and the cumulative fraction below each, by mass (d^3) or, with ``mass=False``, by count."""
+        return _densepack.psd(self._r[: self._n], bins, mass)
+
+    def relDensity(self):
+        """Volume of the spheres over the volume of :meth:`aabb` (overlaps ignored) [-]."""
+        return _densepack.rel_density(self._c[: self._n], self._r[: self._n])
+
     # -- geometry
     def aabb(self):
         """Bounding box of the spheres (radii included): ``(Vector3 min, Vector3 max)``;
@@ -610,16 +640,19 @@ class SpherePack:
         are placed largest first. ``periodic``: centres anywhere in the box, no overlaps
         across its faces, and ``cellSize`` becomes the box size. A zero box extent along
         one axis makes a 2D packing. ``seed >= 0`` reproduces a cloud; negative (default)
-        is random per call. ``hSize``: diagonal periodic cell (box from the origin).
+        is random per call. ``hSize`` (with ``periodic``): the cell is the parallelepiped
+        spanned by its columns from the origin, overriding the corners; overlaps count
+        across its sheared faces and ``cellSize`` stays zero, as in YADE.
 
         Returns the number of spheres generated without ``num``, else ``len(self)``.
         """
         mn, mx = as_vec3(minCorner), as_vec3(maxCorner)
+        shear = _NO_SHEAR
         if hSize is not None and np.any(as_mat3(hSize) != 0):
-            h = as_mat3(hSize)
-            if np.any(h != np.diag(np.diag(h))):
-                raise NotImplementedError("makeCloud: only a diagonal hSize is supported")
-            mn, mx, periodic = np.zeros(3), np.diag(h).copy(), True
+            if not periodic:
+                warnings.warn("makeCloud: hSize can be defined only for periodic cells (ignored)", stacklevel=2)
+            else:
+                shear, mn, mx, volume_h = _densepack.sheared_domain(hSize)
         length = mx - mn
         if np.any(length < 0):
             raise ValueError("makeCloud: maxCorner must not be below minCorner")
@@ -631,19 +664,20 @@ class SpherePack:
         if seed is None or seed < 0:
             seed = secrets.randbits(32)
         z, num = float(rRelFuzz), int(num)
-        volume = float(np.prod(length[~flat]))
+        volume = float(np.prod(length[~flat])) if shear is _NO_SHEAR else volume_h
         # 3D: sphere volume 4/3 pi r^3; 2D: disc area pi r^2 (porosity is then an area fraction)
         dim_exp, unit = (2, math.pi) if flat.any() else (3, 4.0 / 3.0 * math.pi)
 
         def fill(radii=None, cdf=None, rtab=None, mass=False):
             """One insertion from the seed (YADE's retries with a higher porosity start the generator again)."""
             empty = np.empty(0)
+            old = self._c[: self._n].copy() if shear is _NO_SHEAR else np.linalg.solve(shear, self._c[: self._n].T).T
             pos, rad, n = _packing.rsa_fill(
-                self._c[: self._n].copy(), self._r[: self._n].copy(), mn, length, bool(periodic),
+                old, self._r[: self._n].copy(), mn, length, bool(periodic),
                 empty if radii is None else np.ascontiguousarray(radii, dtype=np.float64),
                 empty if cdf is None else cdf, empty if rtab is None else rtab,
-                bool(mass), MAX_TRY, seed % (1 << 32))
-            return pos[:n], rad[:n]
+                bool(mass), MAX_TRY, seed % (1 << 32), shear)
+            return (pos[:n] if shear is _NO_SHEAR else pos[:n] @ shear.T), rad[:n]
 
         n_old = self._n
         old_ids = self._cid[:n_old].copy()  # old spheres keep their clumps; new ones are standalone
@@ -674,8 +708,9 @@ class SpherePack:
                 if len(rad) - n_old < num:
                     warnings.warn(f"makeCloud: exceeded {MAX_TRY} tries to insert a non-overlapping sphere; "
                                   f"only {len(rad) - n_old} of {num} spheres were added", stacklevel=2)
-            else:
-                pos, rad = fill(cdf=np.array([0.0, 1.0]), rtab=np.array([rlo, rhi]))
+            else:   # uniform in size, or with distributeMass in mass (YADE's examples/test/psd.py)
+                cdf, rtab = _packing.psd_table([2.0 * rlo, 2.0 * rhi], [0.0, 1.0], distributeMass)
+                pos, rad = fill(cdf=cdf, rtab=rtab, mass=distributeMass)
         elif num > 0:
             while True:
                 rm = (volume * (1.0 - porosity) / (unit * (1.0 + z * z) * num)) ** (1.0 / dim_exp)
@@ -691,7 +726,8 @@ class SpherePack:
         self._set(pos, rad, np.concatenate([old_ids, np.full(len(rad) - n_old, -1, np.int64)]))
         self.isPeriodic = bool(periodic)
         if periodic:
-            self._cell = length.copy()
+            # YADE leaves cellSize zero for a cell given as hSize (the scene's cell is the script's)
+            self._cell = length.copy() if shear is _NO_SHEAR else np.zeros(3)
         return self._n if num > 0 else self._n - n_old
 
     def makeClumpCloud(self, minCorner, maxCorner, clumps, periodic=False, num=-1, seed=-1):
@@ -773,3 +809,6 @@ from granum.yade._surfacepack import (  # noqa: E402
 
 __all__ += ["gtsSurface2Facets", "inConvexPolyhedron", "inGtsSurface", "revolutionSurfaceMeridians",
             "sweptPolylines2gtsSurface"]
+
+# dense packings (a module of their own: they run DEM in the alternative scene)
+from granum.yade._densepack import filterSpherePack, randomDensePack, randomPeriPack  # noqa: E402
