@@ -14,7 +14,7 @@ from granum import mathtypes as _mathtypes
 
 #: modules whose classes are not part of the object model: the math types (yade.minieigenHP) and the packing
 #: classes and predicates (yade.pack)
-_NOT_MODEL = (_mathtypes.__name__, "granum.yade.pack", "granum.yade._packing")
+_NOT_MODEL = (_mathtypes.__name__, "granum.yade.pack", "granum.yade._packing", "granum.yade._surfacepack")
 
 
 def _is_model_class(value) -> bool:
