@@ -265,3 +265,16 @@ def test_rotating_drum_as_yade():
     # rounding differences (the order of the sums) grow through 1000 steps of contacts: measured 1.1e-9 m at most
     np.testing.assert_allclose(got[:, 0], want[:, 0], rtol=0, atol=1e-8)  # positions [m], r = 0.01
     np.testing.assert_allclose(got[:, 1], want[:, 1], rtol=0, atol=1e-5 * np.abs(want[:, 1]).max())
+
+
+@pytest.mark.parametrize("mask", [0, -1, 2, 1, -2])
+def test_newton_integrator_mask_moves_only_matching_bodies_as_yade(yade, mask):
+    """NewtonIntegrator.mask > 0 leaves a body that shares no bit with it alone (velocity and position); <= 0
+    moves all (tests/reference/yade/newton_mask.py)."""
+    y = yade
+    y.O.bodies.append([y.sphere((0, 0, 0), 1, mask=1), y.sphere((5, 0, 0), 1, mask=0), y.sphere((10, 0, 0), 1, mask=3)])
+    y.O.engines = [y.ForceResetter(), y.NewtonIntegrator(gravity=(0, 0, -10), damping=0, mask=mask)]
+    y.O.dt = 0.1
+    y.O.run(3, True)
+    got = [[list(b.state.pos), list(b.state.vel)] for b in y.O.bodies]
+    np.testing.assert_allclose(got, reference("newton_mask")[str(mask)], rtol=1e-12, atol=1e-15)

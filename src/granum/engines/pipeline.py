@@ -318,14 +318,14 @@ class NewtonIntegrator(GlobalEngine):
         "kinSplit": Attr(False, "Kinetic energy split in translation and rotation (not implemented yet: only False)",
                          only_default("kinSplit", False)),
         "dampGravity": Attr(True, "Damping also acts on gravity (YADE's behaviour)", to_bool),
-        "mask": Attr(-1, "Move only the bodies sharing a bit with this mask (not implemented yet: only -1, all)",
-                     only_default("mask", -1)),
+        "mask": Attr(-1, "Move only the bodies sharing a bit with this mask; <= 0: all (a body left out keeps its "
+                         "velocity and position)", to_int("mask")),
         "prevVelGrad": Attr(Matrix3.Zero, "Velocity gradient of the periodic cell at the previous step [1/s]"),
     }
 
     def params(self, scene, engines) -> NewtonParams:
         return NewtonParams(gravity=np.array(self.gravity._a, dtype=np.float64), damping=float(self.damping),
-                            damp_gravity=bool(self.dampGravity))
+                            damp_gravity=bool(self.dampGravity), mask=int(self.mask))
 
 
 class GravityEngine(GlobalEngine):

@@ -146,9 +146,10 @@ def clump_place(i, S):
 
 
 @jit
-def newton_block(b, S, nb, gravity, damping, damp_gravity, sums, bad):
+def newton_block(b, S, nb, gravity, damping, damp_gravity, mask, sums, bad):
     """Leapfrog step of the bodies of block ``b``; their energy sums into ``sums[b]`` (when energies are
-    tracked), the first non-finite or exploding body into ``bad[b]``.
+    tracked), the first non-finite or exploding body into ``bad[b]``. With ``mask`` > 0, a body sharing no bit
+    with it is left alone: neither its velocity nor its position changes (YADE 2023.02a, measured).
 
     The per-body columns are read into local arrays once (``S`` is a raw view: they are borrowed),
     so that the loop does not reload them from the record after every store.
@@ -159,12 +160,12 @@ def newton_block(b, S, nb, gravity, damping, damp_gravity, sums, bad):
     track = S.iscal[SI_TRACK_ENERGY] != 0
     pos, vel, ori, ang_vel, force, torque = S.pos, S.vel, S.ori, S.ang_vel, S.force, S.torque
     mass, inertia, blocked_dofs, is_damped = S.mass, S.inertia, S.blocked, S.is_damped
-    alive, clump_id, shape_kind, aspherical = S.alive, S.clump_id, S.shape_kind, S.aspherical
+    alive, clump_id, shape_kind, aspherical, body_mask = S.alive, S.clump_id, S.shape_kind, S.aspherical, S.mask
     kinetic = 0.0
     damp_work = 0.0
     grav_work = 0.0
     for i in range(b * BLOCK, min(nb, (b + 1) * BLOCK)):
-        if not alive[i] or clump_id[i] >= 0 and clump_id[i] != i:
+        if not alive[i] or clump_id[i] >= 0 and clump_id[i] != i or mask > 0 and body_mask[i] & mask == 0:
             continue
         clump = shape_kind[i] == ShapeKind.CLUMP
         if clump:
@@ -247,12 +248,12 @@ def newton_block(b, S, nb, gravity, damping, damp_gravity, sums, bad):
     sums[b, 2] = grav_work
 
 
-def _newton_blocks(S, nb, gravity, damping, damp_gravity, sums, bad):
+def _newton_blocks(S, nb, gravity, damping, damp_gravity, mask, sums, bad):
     queue = block_queue(sums.shape[0])
     for w in prange(queue_workers(queue)):
         b = next_block(queue, w, -1)
         while b >= 0:
-            newton_block(b, S, nb, gravity, damping, damp_gravity, sums, bad)
+            newton_block(b, S, nb, gravity, damping, damp_gravity, mask, sums, bad)
             b = next_block(queue, w, b)
 
 
@@ -265,20 +266,21 @@ class NewtonParams(NamedTuple):
     gravity: np.ndarray  #: gravitational acceleration [m/s^2], (3,) float64
     damping: float       #: Cundall's non-viscous damping [-]
     damp_gravity: bool   #: damping acts on the whole acceleration, gravity included
+    mask: int            #: > 0: only bodies sharing a bit with it move; <= 0: all
 
 
 @jit
 def newton_stage(S, C, P):
     """Engine stage of NewtonIntegrator; ``P``: :class:`NewtonParams`."""
-    gravity, damping, damp_gravity = P.gravity, P.damping, P.damp_gravity
+    gravity, damping, damp_gravity, mask = P.gravity, P.damping, P.damp_gravity, P.mask
     nb = S.iscal[SI_NBODIES]
     nblocks = (nb + BLOCK - 1) // BLOCK
     sums = np.zeros((nblocks, 3))
     bad = np.full(nblocks, -1, np.int64)
     if nb < PARALLEL_THRESHOLD:  # through a raw view: no reference counting per body (granum.core.records)
-        newton_blocks(raw(S), nb, gravity, damping, damp_gravity, sums, bad)
+        newton_blocks(raw(S), nb, gravity, damping, damp_gravity, mask, sums, bad)
     else:
-        newton_blocks_par(raw(S), nb, gravity, damping, damp_gravity, sums, bad)
+        newton_blocks_par(raw(S), nb, gravity, damping, damp_gravity, mask, sums, bad)
     for b in range(nblocks):
         if bad[b] >= 0:
             C.ctr[C_STATUS] = STATUS_NONFINITE
