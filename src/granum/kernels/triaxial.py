@@ -164,6 +164,13 @@ def spend_budgets(S, C, grown):
 @jit
 def triaxial_stage(S, C, P):
     """Engine stage of TriaxialStressController (see the module docstring); ``P``: :class:`TriaxialParams`."""
+    triaxial_control(S, C, P, P.internal)
+
+
+@jit
+def triaxial_control(S, C, P, internal):
+    """One step of the controller with ``P``'s walls and goals; ``internal``: grow the spheres instead of moving
+    the walls (the engines built on the controller switch it during a run)."""
     out, walls, goal = P.out, P.walls, P.goal
     it = S.iscal[SI_ITER]
     dt = S.scal[S_DT]
@@ -190,7 +197,7 @@ def triaxial_stage(S, C, P):
             build_csr(C, S.iscal[SI_NBODIES])
         for w in range(6):
             out[T_STIFF + w] = wall_stiffness(C, walls[w])
-    if P.internal:
+    if internal:
         for w in range(6):
             out[T_TRANSLATION + w] = 0.0
             for k in range(3):

@@ -51,7 +51,9 @@ from granum.engines.pipeline import (
 from granum.engines.pyrunner import PyRunner
 from granum.engines.runner import SimulationError
 from granum.engines.timestepper import GlobalStiffnessTimeStepper, TimeStepper
+from granum.engines import triaxial_compression as _triaxial_compression
 from granum.engines.triaxial import TriaxialStressController
+from granum.engines.triaxial_compression import TriaxialCompressionEngine
 from granum.idem import IDEMSolver
 from granum.mathtypes import Matrix3, Quaternion, Vector2, Vector2i, Vector3, Vector3i, Vector6
 from granum.yade import (  # noqa: F401 - the yade.X modules (_laws: the law classes' accumulators and counts)
@@ -120,7 +122,7 @@ _namespace.update(
     BoundDispatcher=BoundDispatcher, IGeomDispatcher=IGeomDispatcher, IPhysDispatcher=IPhysDispatcher,
     LawDispatcher=LawDispatcher, TimeStepper=TimeStepper, GlobalStiffnessTimeStepper=GlobalStiffnessTimeStepper,
     TriaxialStressController=TriaxialStressController, Recorder=Recorder,
-    TriaxialStateRecorder=TriaxialStateRecorder,
+    TriaxialStateRecorder=TriaxialStateRecorder, TriaxialCompressionEngine=TriaxialCompressionEngine,
     ForceEngine=ForceEngine, TranslationEngine=TranslationEngine, RotationEngine=RotationEngine,
     KinematicEngine=KinematicEngine, HelixEngine=HelixEngine, CombinedKinematicEngine=CombinedKinematicEngine,
     ParallelEngine=ParallelEngine,
@@ -130,6 +132,7 @@ _namespace.update(
     readParamsFromTable=readParamsFromTable, waitIfBatch=waitIfBatch, runningInBatch=runningInBatch,
     utils=utils, geom=geom, pack=pack, plot=plot, qt=qt, timing=timing, ymport=ymport, export=export,
 )
+_triaxial_compression.scene_source = lambda: O._scene  # setContactProperties acts on O's scene
 #: YADE's command-line options as its launcher parses them (``opts.threads``...); granum's launcher fills in
 #: ``threads``, ``script`` and ``args``
 opts = _argparse.Namespace(version=False, threads=None, cores=None, updateScripts=None, nice=None, exitAfter=True,
