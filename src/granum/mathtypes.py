@@ -353,6 +353,11 @@ class _Vector3Base(_Vector):
     _padded = True
     UnitX, UnitY, UnitZ = _unit(0), _unit(1), _unit(2)
 
+    def squaredNorm(self):
+        # ((x² + y²) + z²), the order of Eigen's unrolled sum, without the cost of a NumPy reduction
+        x, y, z = self._a.tolist()
+        return x * x + y * y + z * z
+
     def cross(self, other):
         (a0, a1, a2), (b0, b1, b2) = self._a.tolist(), as_array(type(self), other).tolist()
         return self._new(np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], self._dtype))

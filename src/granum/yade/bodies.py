@@ -281,7 +281,7 @@ class _View:
 
 def _vec_property(column: str, doc: str, touch: bool = False):
     def get(self):
-        return Vector3._wrap(self._col(column)[self._row])
+        return Vector3._new(self._col(column)[self._row])  # a float64 (n, 3) column: its row needs no check
 
     def set(self, value):
         self._col(column)[self._row] = _finite3(self._owner(), column, value)
@@ -616,6 +616,14 @@ class Clump(Shape):
         return list(self.members)
 
 
+def _body_of(scene: Scene, i: int) -> Body:
+    """The handle of body ``i`` (a Python int) of ``scene``."""
+    b = object.__new__(Body)
+    object.__setattr__(b, "_store", scene)
+    object.__setattr__(b, "_row", i)
+    return b
+
+
 class BodyContainer:
     """``O.bodies``: bodies by id; appending copies a body into the scene's storage."""
 
@@ -646,16 +654,36 @@ class BodyContainer:
         i = self._check(i)
         if not self._scene.bodies.alive[i]:
             return None
-        b = object.__new__(Body)
-        object.__setattr__(b, "_store", self._scene)
-        object.__setattr__(b, "_row", i)
-        return b
+        return _body_of(self._scene, i)
 
     def __iter__(self):
-        for i in range(self._scene.body_count):
-            b = self[i]
-            if b is not None:
-                yield b
+        scene = self._scene
+        for i in np.flatnonzero(scene.bodies.alive[:scene.body_count]).tolist():
+            yield _body_of(scene, i)
+
+    #: ``arrays()`` names: YADE's State attribute (or O.forces quantity) -> body column
+    ARRAY_COLUMNS = {"pos": "pos", "vel": "vel", "angVel": "ang_vel", "ori": "ori", "angMom": "ang_mom",
+                     "inertia": "inertia", "mass": "mass", "refPos": "ref_pos", "refOri": "ref_ori",
+                     "force": "force", "torque": "torque"}
+
+    def arrays(self, *names: str) -> dict[str, np.ndarray]:
+        """granum's bulk access (not in YADE): the quantities ``names`` of every existing body as NumPy arrays,
+        one row per body in the order of ``ids``, copied (later steps do not change them).
+
+        ``ids`` (n,) int64 is always included. Names are YADE's: ``pos``, ``vel``, ``angVel``, ``angMom``,
+        ``inertia``, ``refPos`` (n, 3) [m, m/s, rad/s, kg m²/s, kg m², m]; ``ori``, ``refOri`` (n, 4), quaternions
+        as (w, x, y, z); ``mass`` (n,) [kg]; ``force`` (n, 3) [N] and ``torque`` (n, 3) [N m], those of
+        ``O.forces`` (the last step's). Example: ``z = O.bodies.arrays("pos")["pos"][:, 2]``."""
+        unknown = [n for n in names if n not in self.ARRAY_COLUMNS]
+        if unknown:
+            raise ValueError(f"O.bodies.arrays: unknown quantities {unknown}; known: {sorted(self.ARRAY_COLUMNS)}")
+        bodies = self._scene.bodies
+        ids = np.flatnonzero(bodies.alive[:self._scene.body_count])
+        out = {"ids": ids}
+        for name in names:
+            column = bodies.stored(self.ARRAY_COLUMNS[name])
+            out[name] = column[ids] if len(column) else np.zeros((ids.size,) + column.shape[1:])
+        return out
 
     @pauses_the_run
     def append(self, b):

@@ -212,7 +212,7 @@ class VTKExporter:
 
         scene = _scene()
         intrs = self._interactions(ids)
-        rows = [find_contact(scene.contacts, i.id1, i.id2) for i in intrs]
+        rows = [find_contact(scene, i.id1, i.id2) for i in intrs]
         points = scene.contacts.con_f[np.asarray(rows, dtype=np.int64), F_POINT:F_POINT + 3].reshape(-1, 3)
         data = self._evaluate(what, intrs, "i")
         vtklegacy.write_polydata(self._file("cps", numLabel), points, point_data=data, comment=comment)

@@ -1,0 +1,131 @@
+"""O.interactions and O.bodies from Python: every handle reads the row it names, through steps that end,
+create and compact contact rows and through erasures, checked against a brute-force reading of the contact
+arrays; walking them makes no per-item search (the cost is O(1) per item)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from conftest import frict_engines
+
+from granum.core.contacts import F_FN, FLAG_ALIVE, I_FLAGS, I_ID1, I_ID2
+from granum.yade import interactions as intr_module
+
+
+def _pile(y, n=4):
+    """n³ unit-spaced spheres of radius 0.55 (each touches its neighbours), thrown apart by their velocities."""
+    y.O.engines = frict_engines(y, gravity=(0, 0, -10), damping=0)
+    y.O.dt = 1e-4
+    y.O.bodies.append([y.sphere((i, j, k), 0.55) for k in range(n) for j in range(n) for i in range(n)])
+    for b in y.O.bodies:  # spread the spheres so that contacts end and rows are compacted
+        b.state.vel = (0.3 * (b.id % 3 - 1), 0.2 * (b.id % 5 - 2), 0.1 * (b.id % 7 - 3))
+
+
+def _brute_force(y):
+    """{(id1, id2): normal force} of the live contacts, read from the arrays without the lookups under test."""
+    C = y.O._scene.contacts
+    n = int(C.ctr[1])
+    out = {}
+    for row in range(n):
+        if C.con_i[row, I_FLAGS] & FLAG_ALIVE:
+            out[(int(C.con_i[row, I_ID1]), int(C.con_i[row, I_ID2]))] = tuple(C.con_f[row, F_FN:F_FN + 3])
+    return out
+
+
+def test_handles_follow_their_contact_through_steps_and_erasures(yade):
+    y = yade
+    _pile(y)
+    y.O.step()
+    held = {(i.id1, i.id2): i for i in y.O.interactions}
+    assert len(held) == 144  # 3 n² (n - 1) neighbour pairs of the 4³ lattice
+    ended = 0
+    for _ in range(40):
+        y.O.run(25, True)
+        truth = _brute_force(y)
+        walked = {(i.id1, i.id2): tuple(i.phys.normalForce) for i in y.O.interactions}
+        assert walked == truth
+        for key, i in held.items():  # handles made steps ago: real exactly when the pair still touches
+            assert i.isReal == (key in truth)
+            if i.isReal:
+                assert tuple(i.phys.normalForce) == truth[key]
+                assert y.O.interactions[key[1], key[0]].phys.normalForce == i.phys.normalForce
+            else:
+                assert i.phys is None and not y.O.interactions.has(*key, onlyReal=True)
+        ended = len(held) - len(truth)
+        if truth:  # erase one from Python: its handles see it at once
+            key = min(truth)
+            y.O.interactions.erase(*key)
+            assert not held[key].isReal if key in held else True
+            assert (key not in _brute_force(y)) and not y.O.interactions.has(*key, onlyReal=True)
+    assert ended > 100  # the pile came apart: rows were ended and compacted many times
+
+
+def test_walking_makes_no_search(yade, monkeypatch):
+    """Iterating O.interactions and reading i.phys / i.geom fields, and iterating O.bodies, never looks a
+    contact up: the rows come with the iteration."""
+    y = yade
+    _pile(y)
+    y.O.run(3, True)
+    calls = []
+    monkeypatch.setattr(intr_module, "find_contact", lambda *a: calls.append(a) or -1)
+    total = sum(i.phys.normalForce.norm() + i.geom.penetrationDepth + i.phys.kn for i in y.O.interactions)
+    assert calls == [] and total > 0
+    assert [b.id for b in y.O.bodies] == list(range(64))
+
+
+def test_withBody_and_lookups_agree_with_brute_force(yade):
+    y = yade
+    _pile(y, 3)
+    y.O.run(5, True)
+    truth = _brute_force(y)
+    for b in range(27):
+        mine = sorted((i.id1, i.id2) for i in y.O.interactions.withBody(b))
+        assert mine == sorted(k for k in truth if b in k)
+    for a in range(27):
+        for b in range(27):
+            expected = (a, b) in truth or (b, a) in truth
+            assert y.O.interactions.has(a, b, onlyReal=True) == expected
+
+
+@pytest.mark.parametrize("n", [1, 2, 7, 100])
+def test_pair_search_against_a_scan(n):
+    """find_pair's binary search over the sorted pair list, against a scan of it, for present and absent pairs."""
+    rng = np.random.default_rng(n)
+    pairs = sorted({tuple(sorted(rng.choice(30, 2, replace=False).tolist())) for _ in range(n)})
+
+    class C:
+        pair_ids = np.array(pairs + [(99, 99)] * 5, dtype=np.int32)  # rows past the count are garbage
+        ctr = np.array([len(pairs)], dtype=np.int32)
+
+    for a in range(31):
+        for b in range(31):
+            expected = pairs.index((min(a, b), max(a, b))) if (min(a, b), max(a, b)) in pairs else -1
+            assert intr_module.find_pair(C, a, b) == expected
+
+
+def test_bulk_arrays_equal_the_per_item_values(yade):
+    y = yade
+    assert y.O.interactions.arrays("normalForce")["normalForce"].shape == (0, 3)
+    _pile(y, 3)
+    y.O.bodies.append(y.wall(-0.6, axis=2))  # a wall contact: ScGeom and FrictPhys too, another geometry functor
+    y.O.run(5, True)
+    walked = list(y.O.interactions)
+    got = y.O.interactions.arrays("normalForce", "penetrationDepth", "kn", "contactPoint")
+    assert got["id1"].tolist() == [i.id1 for i in walked] and got["id2"].tolist() == [i.id2 for i in walked]
+    assert np.array_equal(got["normalForce"], [list(i.phys.normalForce) for i in walked])
+    assert np.array_equal(got["kn"], [i.phys.kn for i in walked])
+    assert np.array_equal(got["penetrationDepth"], [i.geom.penetrationDepth for i in walked])
+    assert np.array_equal(got["contactPoint"], [list(i.geom.contactPoint) for i in walked])
+    with pytest.raises(ValueError, match="'normalForse'"):
+        y.O.interactions.arrays("normalForse")
+    bodies = y.O.bodies.arrays("pos", "angVel", "mass", "force", "ori")
+    assert bodies["ids"].tolist() == [b.id for b in y.O.bodies]
+    assert np.array_equal(bodies["pos"], [list(b.state.pos) for b in y.O.bodies])
+    assert np.array_equal(bodies["angVel"], [list(b.state.angVel) for b in y.O.bodies])
+    assert np.array_equal(bodies["mass"], [b.state.mass for b in y.O.bodies])
+    assert np.array_equal(bodies["force"], [list(y.O.forces.f(b.id)) for b in y.O.bodies])
+    assert np.array_equal(bodies["ori"][:, 0], [b.state.ori[3] for b in y.O.bodies])  # (w, x, y, z); YADE's w is [3]
+    y.O.bodies.erase(4)
+    assert 4 not in y.O.bodies.arrays()["ids"].tolist()
+    with pytest.raises(ValueError, match="'position'"):
+        y.O.bodies.arrays("position")
