@@ -129,6 +129,7 @@ class TriaxialCompressionEngine(TriaxialStressController):
         object.__setattr__(self, "_tc", tc)
         object.__setattr__(self, "_goal", np.zeros(3))
         object.__setattr__(self, "_active", np.ones(6, np.uint8))
+        object.__setattr__(self, "_synced", None)
         super().__init__(**kw)
 
     currentState = _tc(k.TC_STATE, "currentState: 0 (not started), 1 compaction, 2 unloading, 3 loading, "
@@ -147,6 +148,10 @@ class TriaxialCompressionEngine(TriaxialStressController):
             raise RuntimeError("setContactProperties: no scene (use it from the YADE namespace)")
         contact_friction(scene_source(), as_number(frictionDegree, "setContactProperties(frictionDegree)"))
 
+    def _servo_attrs(self) -> tuple:
+        """The attributes the stage changes at transitions (its copies: ``_goal``, ``_active``, ``_tc``)."""
+        return (self.goal1, self.goal2, self.goal3, tuple(self.activated()), self.internalCompaction)
+
     def params(self, scene, engines) -> k.CompressionParams:
         name = type(self).__name__
         if self.fixedPoroCompaction or int(self._tc[k.TC_STATE]) == k.STATE_FIXED_POROSITY_COMPACTION:
@@ -157,9 +162,11 @@ class TriaxialCompressionEngine(TriaxialStressController):
             raise ValueError(f"{name}: internalCompaction grows the spheres to sigmaIsoCompaction, which must be "
                              f"negative (compression), got {self.sigmaIsoCompaction!r}")
         axis = np.array(self.translationAxis._a, float)
-        self._goal[:] = [self.goal1, self.goal2, self.goal3]
-        self._active[:] = self.activated()
-        self._tc[k.TC_INTERNAL] = float(self.internalCompaction)
+        if self._servo_attrs() != self._synced:   # set from Python since the stage last changed them
+            self._goal[:] = [self.goal1, self.goal2, self.goal3]
+            self._active[:] = self.activated()
+            self._tc[k.TC_INTERNAL] = float(self.internalCompaction)
+            object.__setattr__(self, "_synced", self._servo_attrs())
         gravity = np.zeros(3)
         for e in engines:
             if isinstance(e, NewtonIntegrator) and not e.dead:
@@ -182,6 +189,7 @@ class TriaxialCompressionEngine(TriaxialStressController):
             for w, on in zip(WALLS, self._active, strict=True):
                 setattr(self, f"wall_{w}_activated", bool(on))
             self.internalCompaction = bool(tc[k.TC_INTERNAL])
+            object.__setattr__(self, "_synced", self._servo_attrs())
         if events & k.EV_FRICTION and self.frictionAngleDegree > 0:
             contact_friction(omega._scene, self.frictionAngleDegree)
         if self.noFiles:
