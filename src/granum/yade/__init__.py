@@ -23,6 +23,7 @@ import numpy as _numpy
 from future import standard_library as _standard_library
 
 from granum import idem
+from granum.engines import triaxial_engines as _triaxial_engines
 from granum.engines.base import Engine, GlobalEngine, PartialEngine, PeriodicEngine
 from granum.engines.controllers import PeriTriaxController
 from granum.engines.functors import CLASSES as _FUNCTORS
@@ -50,10 +51,10 @@ from granum.engines.pipeline import (
 )
 from granum.engines.pyrunner import PyRunner
 from granum.engines.runner import SimulationError
+from granum.engines.strainer import UniaxialStrainer
 from granum.engines.timestepper import GlobalStiffnessTimeStepper, TimeStepper
-from granum.engines import triaxial_compression as _triaxial_compression
 from granum.engines.triaxial import TriaxialStressController
-from granum.engines.triaxial_compression import TriaxialCompressionEngine
+from granum.engines.triaxial_engines import ThreeDTriaxialEngine, TriaxialCompressionEngine
 from granum.idem import IDEMSolver
 from granum.mathtypes import Matrix3, Quaternion, Vector2, Vector2i, Vector3, Vector3i, Vector6
 from granum.yade import (  # noqa: F401 - the yade.X modules (_laws: the law classes' accumulators and counts)
@@ -123,6 +124,7 @@ _namespace.update(
     LawDispatcher=LawDispatcher, TimeStepper=TimeStepper, GlobalStiffnessTimeStepper=GlobalStiffnessTimeStepper,
     TriaxialStressController=TriaxialStressController, Recorder=Recorder,
     TriaxialStateRecorder=TriaxialStateRecorder, TriaxialCompressionEngine=TriaxialCompressionEngine,
+    ThreeDTriaxialEngine=ThreeDTriaxialEngine, UniaxialStrainer=UniaxialStrainer,
     ForceEngine=ForceEngine, TranslationEngine=TranslationEngine, RotationEngine=RotationEngine,
     KinematicEngine=KinematicEngine, HelixEngine=HelixEngine, CombinedKinematicEngine=CombinedKinematicEngine,
     ParallelEngine=ParallelEngine,
@@ -132,7 +134,7 @@ _namespace.update(
     readParamsFromTable=readParamsFromTable, waitIfBatch=waitIfBatch, runningInBatch=runningInBatch,
     utils=utils, geom=geom, pack=pack, plot=plot, qt=qt, timing=timing, ymport=ymport, export=export,
 )
-_triaxial_compression.scene_source = lambda: O._scene  # setContactProperties acts on O's scene
+_triaxial_engines.scene_source = lambda: O._scene  # setContactProperties acts on O's scene
 #: YADE's command-line options as its launcher parses them (``opts.threads``...); granum's launcher fills in
 #: ``threads``, ``script`` and ``args``
 opts = _argparse.Namespace(version=False, threads=None, cores=None, updateScripts=None, nice=None, exitAfter=True,

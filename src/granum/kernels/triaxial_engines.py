@@ -1,5 +1,7 @@
-"""TriaxialCompressionEngine's stage: the state machine of a triaxial test around the wall-box servo of
+"""The stages of TriaxialCompressionEngine and ThreeDTriaxialEngine, built around the wall-box servo of
 :mod:`granum.kernels.triaxial`.
+
+**TriaxialCompressionEngine** (:func:`compression_stage`) is the state machine of a triaxial test.
 
 States (``currentState``): 0 not started, 1 isotropic compaction to σ_iso = ``sigmaIsoCompaction``, 2 isotropic
 unloading to ``sigmaLateralConfinement``, 3 triaxial loading, 4 compaction to a fixed porosity (refused by the
@@ -23,6 +25,11 @@ engine), 5 limbo. Per step, in this order (YADE 2023.02a's, measured on its wall
 A transition asks for the engine's Python hook (after the step): it copies the goals, the walls' activation and
 ``internalCompaction`` to the engine's attributes, sets the friction (``frictionAngleDegree``) and writes the
 checkpoint files.
+
+**ThreeDTriaxialEngine** (:func:`three_d_stage`): axis a is stress-controlled by the servo (goal a) when
+``stressControl_a``; otherwise its two walls leave the servo and are moved like the loading walls above at the
+rate r_a ← r_a + (1 − strainDamping)(strainRate_a − r_a) (strainDamping: the engine's own, 0.9997). At its first
+step, with ``updateFrictionAngle``, the friction becomes ``frictionAngleDegree`` (once: YADE 2023.02a, measured).
 """
 
 from __future__ import annotations
@@ -59,7 +66,9 @@ TC_PREV_SIGMA_ISO = 6   # previousSigmaIso [Pa]
 TC_INTERNAL = 7         # internalCompaction (0 or 1)
 TC_EVENTS = 8           # EV_* bits for the Python hook
 TC_EVENT_ITER = 9       # the step of the last transition
-TC_SIZE = 10
+TD_RATES = 10           # 10..12 ThreeDTriaxialEngine's currentStrainRate1..3 [1/s]
+TD_STARTED = 13         # ThreeDTriaxialEngine has run its first step (0 or 1)
+TC_SIZE = 14
 
 # what the Python hook does (bits of TC_EVENTS)
 EV_SYNC = 1             # copy goals, walls' activation, internalCompaction to the attributes
@@ -72,6 +81,8 @@ RATE_DAMPING = 0.9997
 #: relative distance of the mean stress to σ_iso below which a stage may end
 STRESS_TOLERANCE = 0.005
 _TOP, _BOTTOM = 3, 2
+#: unit vectors of the axes
+AXES = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
 
 
 class CompressionParams(NamedTuple):
@@ -184,12 +195,56 @@ def compression_stage(S, C, P):
     triaxial_control(S, C, T, st[TC_INTERNAL] != 0.0)
     if int(st[TC_STATE]) == STATE_TRIAX_LOADING and abs(T.out[T_STRAIN + 1]) < P.epsilon_max:
         st[TC_RATE] += (1.0 - RATE_DAMPING) * (P.strain_rate - st[TC_RATE])
-        d = 0.5 * st[TC_RATE] * T.out[T_SIZE + 1] * S.scal[S_DT]
-        top, bottom = T.walls[_TOP], T.walls[_BOTTOM]
-        for k in range(3):
-            S.pos[top, k] -= d * P.axis[k]
-            S.pos[bottom, k] += d * P.axis[k]
-            S.vel[top, k] = 0.0
-            S.vel[bottom, k] = 0.0
+        move_walls(S, T, _BOTTOM, _TOP, P.axis, st[TC_RATE], 1)
+    if st[TC_EVENTS] != 0.0:
+        S.iscal[SI_HOOK] = P.hook_id
+
+
+@jit
+def move_walls(S, T, lo, hi, direction, rate, axis):
+    """Move walls ``lo`` and ``hi`` (indices in ``T.walls``) towards each other by ½·rate·size·dt each along
+    ``direction`` (3,) (``hi`` against it), ``size`` the box's size along ``axis``; their velocities are zeroed
+    (a strain rate ``rate`` [1/s], > 0 compresses)."""
+    d = 0.5 * rate * T.out[T_SIZE + axis] * S.scal[S_DT]
+    a, b = T.walls[lo], T.walls[hi]
+    for k in range(3):
+        S.pos[a, k] += d * direction[k]
+        S.pos[b, k] -= d * direction[k]
+        S.vel[a, k] = 0.0
+        S.vel[b, k] = 0.0
+
+
+class ThreeDParams(NamedTuple):
+    """Parameters of :func:`three_d_stage` (ThreeDTriaxialEngine's attributes of the same meaning)."""
+
+    triax: TriaxialParams     #: the wall servo's parameters (its ``activated`` is the engine's array)
+    state: np.ndarray         #: slots TC_EVENTS, TC_INTERNAL, TD_*, (TC_SIZE,) float64; written by the stage
+    stress_control: np.ndarray  #: stressControl_1..3, (3,) uint8
+    strain_rate: np.ndarray   #: strainRate1..3, goal strain rates [1/s] (> 0 compresses), (3,)
+    strain_damping: float     #: the engine's strainDamping [-]
+    update_friction: bool     #: updateFrictionAngle: set the friction at the first step
+    hook_id: int              #: what the stage writes to ``iscal[SI_HOOK]`` when the hook has work
+
+
+@jit
+def three_d_stage(S, C, P):
+    """Engine stage of ThreeDTriaxialEngine (see the module docstring); ``P``: :class:`ThreeDParams`."""
+    st, T = P.state, P.triax
+    if st[TD_STARTED] == 0.0:
+        st[TD_STARTED] = 1.0
+        if P.update_friction:
+            st[TC_EVENTS] = int(st[TC_EVENTS]) | EV_FRICTION
+    for a in range(3):
+        on = P.stress_control[a]
+        if T.activated[2 * a] != on or T.activated[2 * a + 1] != on:
+            T.activated[2 * a] = on
+            T.activated[2 * a + 1] = on
+            st[TC_EVENTS] = int(st[TC_EVENTS]) | EV_SYNC
+        if not on:
+            st[TD_RATES + a] += (1.0 - P.strain_damping) * (P.strain_rate[a] - st[TD_RATES + a])
+    triaxial_control(S, C, T, st[TC_INTERNAL] != 0.0)
+    for a in range(3):
+        if not P.stress_control[a]:
+            move_walls(S, T, 2 * a, 2 * a + 1, AXES[a], st[TD_RATES + a], a)
     if st[TC_EVENTS] != 0.0:
         S.iscal[SI_HOOK] = P.hook_id

@@ -1,5 +1,5 @@
 """TriaxialCompressionEngine: YADE's triaxial test as a state machine (isotropic compaction, unloading, loading)
-around TriaxialStressController's wall servo (see :mod:`granum.kernels.triaxial_compression`)."""
+around TriaxialStressController's wall servo (see :mod:`granum.kernels.triaxial_engines`)."""
 
 from __future__ import annotations
 
@@ -9,12 +9,12 @@ import os
 import numpy as np
 
 from granum.core.attrs import Attr, as_integer, as_number, to_bool, to_float, to_int, to_str
-from granum.core.contacts import C_CONTACTS, F_TANPHI, FLAG_ALIVE, I_FLAGS, I_ID1, I_ID2
 from granum.core.bodies import DOF_ALL
+from granum.core.contacts import C_CONTACTS, F_TANPHI, FLAG_ALIVE, I_FLAGS, I_ID1, I_ID2
 from granum.core.shapes import ShapeKind
 from granum.engines.pipeline import NewtonIntegrator, to_vec3
-from granum.engines.triaxial import WALLS, TriaxialStressController, _state
-from granum.kernels import triaxial_compression as k
+from granum.engines.triaxial import WALLS, TriaxialStressController, _fraction, _state
+from granum.kernels import triaxial_engines as k
 from granum.mathtypes import Vector3
 
 #: the scene a method called from a script acts on (set by the YADE layer: O's current scene)
@@ -78,10 +78,60 @@ def spheres_file(scene, path: str) -> None:
             f.write(f"{p[0]:g} {p[1]:g} {p[2]:g} {rad:g}\n")
 
 
-class TriaxialCompressionEngine(TriaxialStressController):
+class _ServoEngine(TriaxialStressController):
+    """An engine whose stage changes the servo's goals, walls' activation and ``internalCompaction`` during a run:
+    the stage works on copies (``_goal``, ``_active``, ``_tc[TC_INTERNAL]``), rewritten from the attributes when
+    they were set from Python, and copied back to them by the hook the stage asks for."""
+
+    def __init__(self, **kw):
+        object.__setattr__(self, "_tc", np.zeros(k.TC_SIZE))
+        object.__setattr__(self, "_goal", np.zeros(3))
+        object.__setattr__(self, "_active", np.ones(6, np.uint8))
+        object.__setattr__(self, "_synced", None)
+        super().__init__(**kw)
+
+    def setContactProperties(self, frictionDegree) -> None:
+        """Set the friction angle [deg] of the dynamic bodies' materials and of the live contacts."""
+        if scene_source is None:
+            raise RuntimeError("setContactProperties: no scene (use it from the YADE namespace)")
+        contact_friction(scene_source(), as_number(frictionDegree, "setContactProperties(frictionDegree)"))
+
+    def _servo_attrs(self) -> tuple:
+        """The attributes the stage changes (its copies: ``_goal``, ``_active``, ``_tc``), as plain values."""
+        return (float(self.goal1), float(self.goal2), float(self.goal3),
+                tuple(int(a) for a in self.activated()), bool(self.internalCompaction))
+
+    def servo_copies(self, scene):
+        """The servo's parameters on the stage's copies, rewritten first from attributes set from Python."""
+        if self._servo_attrs() != self._synced:
+            self._goal[:] = [self.goal1, self.goal2, self.goal3]
+            self._active[:] = self.activated()
+            self._tc[k.TC_INTERNAL] = float(self.internalCompaction)
+            object.__setattr__(self, "_synced", self._servo_attrs())
+        return self.servo_params(scene, self._goal, self._active)
+
+    def run_hook(self, omega) -> None:
+        """After a step the stage flagged: the attributes it changed, the friction (and the subclass' work)."""
+        events = int(self._tc[k.TC_EVENTS])
+        self._tc[k.TC_EVENTS] = 0.0
+        if events & k.EV_SYNC:
+            self.goal1, self.goal2, self.goal3 = (float(g) for g in self._goal)
+            for w, on in zip(WALLS, self._active, strict=True):
+                setattr(self, f"wall_{w}_activated", bool(on))
+            self.internalCompaction = bool(self._tc[k.TC_INTERNAL])
+            object.__setattr__(self, "_synced", self._servo_attrs())
+        if events & k.EV_FRICTION and self.frictionAngleDegree > 0:
+            contact_friction(omega._scene, self.frictionAngleDegree)
+        self.after_hook(omega, events)
+
+    def after_hook(self, omega, events: int) -> None:
+        """The subclass' part of the hook (``events``: the stage's EV_* bits)."""
+
+
+class TriaxialCompressionEngine(_ServoEngine):
     """YADE's triaxial test engine: compact the sample in its six walls to ``sigmaIsoCompaction``, unload to
     ``sigmaLateralConfinement``, then compress it along y at ``strainRate`` under that lateral stress (see
-    :mod:`granum.kernels.triaxial_compression` for the states and their transitions).
+    :mod:`granum.kernels.triaxial_engines` for the states and their transitions).
 
     Stresses are in Pa (compression negative), ``strainRate`` in 1/s (positive compresses). At the end of the
     compaction and of the unloading the scene is saved as ``<Key>_Compacted_<iter>_<state>.xml`` and
@@ -89,7 +139,7 @@ class TriaxialCompressionEngine(TriaxialStressController):
     then reloads the last one. granum saves the scene at the end of the transition's step (YADE: during it).
     """
 
-    stage = "granum.kernels.triaxial_compression:compression_stage"
+    stage = "granum.kernels.triaxial_engines:compression_stage"
     _attrs = {
         "sigmaIsoCompaction": Attr(1.0, "Isotropic stress of the compaction [Pa] (< 0: compression)",
                                    to_float("sigmaIsoCompaction", allow_nan=False)),
@@ -124,13 +174,8 @@ class TriaxialCompressionEngine(TriaxialStressController):
     }
 
     def __init__(self, **kw):
-        tc = np.zeros(k.TC_SIZE)
-        tc[k.TC_UNBALANCED] = 1.0
-        object.__setattr__(self, "_tc", tc)
-        object.__setattr__(self, "_goal", np.zeros(3))
-        object.__setattr__(self, "_active", np.ones(6, np.uint8))
-        object.__setattr__(self, "_synced", None)
         super().__init__(**kw)
+        self._tc[k.TC_UNBALANCED] = 1.0
 
     currentState = _tc(k.TC_STATE, "currentState: 0 (not started), 1 compaction, 2 unloading, 3 loading, "
                                    "4 fixed-porosity compaction, 5 limbo", _current_state)
@@ -142,16 +187,6 @@ class TriaxialCompressionEngine(TriaxialStressController):
     sigma_iso = _tc(k.TC_SIGMA_ISO, "sigma_iso: the isotropic stress goal of the current stage [Pa]")
     previousSigmaIso = _tc(k.TC_PREV_SIGMA_ISO, "previousSigmaIso: sigma_iso at the last step [Pa]")
 
-    def setContactProperties(self, frictionDegree) -> None:
-        """Set the friction angle [deg] of the dynamic bodies' materials and of the live contacts."""
-        if scene_source is None:
-            raise RuntimeError("setContactProperties: no scene (use it from the YADE namespace)")
-        contact_friction(scene_source(), as_number(frictionDegree, "setContactProperties(frictionDegree)"))
-
-    def _servo_attrs(self) -> tuple:
-        """The attributes the stage changes at transitions (its copies: ``_goal``, ``_active``, ``_tc``)."""
-        return (self.goal1, self.goal2, self.goal3, tuple(self.activated()), self.internalCompaction)
-
     def params(self, scene, engines) -> k.CompressionParams:
         name = type(self).__name__
         if self.fixedPoroCompaction or int(self._tc[k.TC_STATE]) == k.STATE_FIXED_POROSITY_COMPACTION:
@@ -162,40 +197,62 @@ class TriaxialCompressionEngine(TriaxialStressController):
             raise ValueError(f"{name}: internalCompaction grows the spheres to sigmaIsoCompaction, which must be "
                              f"negative (compression), got {self.sigmaIsoCompaction!r}")
         axis = np.array(self.translationAxis._a, float)
-        if self._servo_attrs() != self._synced:   # set from Python since the stage last changed them
-            self._goal[:] = [self.goal1, self.goal2, self.goal3]
-            self._active[:] = self.activated()
-            self._tc[k.TC_INTERNAL] = float(self.internalCompaction)
-            object.__setattr__(self, "_synced", self._servo_attrs())
         gravity = np.zeros(3)
         for e in engines:
             if isinstance(e, NewtonIntegrator) and not e.dead:
                 gravity = np.array(e.gravity._a, float)
         return k.CompressionParams(
-            triax=self.servo_params(scene, self._goal, self._active), state=self._tc,
+            triax=self.servo_copies(scene), state=self._tc,
             sigma_iso_compaction=float(self.sigmaIsoCompaction), sigma_lateral=float(self.sigmaLateralConfinement),
             strain_rate=float(self.strainRate), stability=float(self.StabilityCriterion),
             test_interval=int(self.testEquilibriumInterval), auto_unload=bool(self.autoUnload),
             auto_compression=bool(self.autoCompressionActivation), axisymmetric=bool(self.isAxisymetric),
             epsilon_max=float(self.epsilonMax), axis=axis, gravity=gravity, hook_id=int(self._plan_index))
 
-    def run_hook(self, omega) -> None:
-        """After a transition: the attributes the stage changed, the friction, the files."""
-        tc = self._tc
-        events = int(tc[k.TC_EVENTS])
-        tc[k.TC_EVENTS] = 0.0
-        if events & k.EV_SYNC:
-            self.goal1, self.goal2, self.goal3 = (float(g) for g in self._goal)
-            for w, on in zip(WALLS, self._active, strict=True):
-                setattr(self, f"wall_{w}_activated", bool(on))
-            self.internalCompaction = bool(tc[k.TC_INTERNAL])
-            object.__setattr__(self, "_synced", self._servo_attrs())
-        if events & k.EV_FRICTION and self.frictionAngleDegree > 0:
-            contact_friction(omega._scene, self.frictionAngleDegree)
+    def after_hook(self, omega, events: int) -> None:
+        """After a transition: the checkpoint files."""
         if self.noFiles:
             return
+        tc = self._tc
         for bit, what in ((k.EV_SAVE_COMPACTED, "Compacted"), (k.EV_SAVE_UNLOADED, "Unloaded")):
             if events & bit:
                 base = os.path.join(".", f"{self.Key}_{what}_{int(tc[k.TC_EVENT_ITER])}_{int(tc[k.TC_STATE])}")
                 spheres_file(omega._scene, base + ".spheres")
                 omega.save(base + ".xml")
+
+
+class ThreeDTriaxialEngine(_ServoEngine):
+    """Stress control of axis a (the servo's goal a) when stressControl_a, otherwise its two walls move
+    at a strain rate approaching strainRate a [1/s] (> 0 compresses); see
+    :mod:`granum.kernels.triaxial_engines`."""
+
+    stage = "granum.kernels.triaxial_engines:three_d_stage"
+    _attrs = {
+        **{f"strainRate{a}": Attr(0.0, f"Goal strain rate along axis {a} [1/s] (> 0: compression)",
+                                  to_float(f"strainRate{a}", allow_nan=False)) for a in (1, 2, 3)},
+        **{f"stressControl_{a}": Attr(True, f"Axis {a} is stress-controlled (else strain-rate-controlled)", to_bool)
+           for a in (1, 2, 3)},
+        "strainDamping": Attr(0.9997, "Factor by which the strain rates' distance to their goals shrinks per step "
+                                      "[-]", _fraction("strainDamping")),
+        "UnbalancedForce": Attr(1.0, "Kept for YADE's scripts (this engine does not compute it)",
+                                to_float("UnbalancedForce")),
+        "frictionAngleDegree": Attr(-1.0, "Friction angle set at the first step with updateFrictionAngle [deg]",
+                                    to_float("frictionAngleDegree", allow_nan=False)),
+        "updateFrictionAngle": Attr(False, "Set the friction to frictionAngleDegree at the first step", to_bool),
+        "Key": Attr("", "Kept for YADE's scripts (this engine writes no file)", to_str("Key")),
+    }
+
+    currentStrainRate1 = _tc(k.TD_RATES, "currentStrainRate1: the strain rate along x [1/s]")
+    currentStrainRate2 = _tc(k.TD_RATES + 1, "currentStrainRate2: along y [1/s]")
+    currentStrainRate3 = _tc(k.TD_RATES + 2, "currentStrainRate3: along z [1/s]")
+
+    def params(self, scene, engines) -> k.ThreeDParams:
+        control = np.array([self.stressControl_1, self.stressControl_2, self.stressControl_3], np.uint8)
+        if self.internalCompaction and not np.mean([self.goal1, self.goal2, self.goal3]) < 0:
+            raise ValueError(f"{type(self).__name__}: internalCompaction grows the spheres to a compressive mean "
+                             "goal: the mean of goal1..3 must be negative (compression)")
+        return k.ThreeDParams(
+            triax=self.servo_copies(scene), state=self._tc, stress_control=control,
+            strain_rate=np.array([self.strainRate1, self.strainRate2, self.strainRate3], float),
+            strain_damping=float(self.strainDamping), update_friction=bool(self.updateFrictionAngle),
+            hook_id=int(self._plan_index))
