@@ -84,6 +84,7 @@ from granum.yade.interactions import PHYS_VIEWS as _PHYSS
 from granum.yade.interactions import Interaction
 from granum.yade.materials import CLASSES as _MATERIALS
 from granum.yade.omega import O, Omega
+from granum.yade.preprocessors import FileGenerator, TriaxialTest
 from granum.yade.recorders import Recorder, TriaxialStateRecorder
 from granum.yade.snapshot import SnapshotEngine
 from granum.yade.utils import *  # noqa: F403
@@ -124,7 +125,8 @@ _namespace.update(
     LawDispatcher=LawDispatcher, TimeStepper=TimeStepper, GlobalStiffnessTimeStepper=GlobalStiffnessTimeStepper,
     TriaxialStressController=TriaxialStressController, Recorder=Recorder,
     TriaxialStateRecorder=TriaxialStateRecorder, TriaxialCompressionEngine=TriaxialCompressionEngine,
-    ThreeDTriaxialEngine=ThreeDTriaxialEngine, UniaxialStrainer=UniaxialStrainer,
+    ThreeDTriaxialEngine=ThreeDTriaxialEngine, UniaxialStrainer=UniaxialStrainer, FileGenerator=FileGenerator,
+    TriaxialTest=TriaxialTest,
     ForceEngine=ForceEngine, TranslationEngine=TranslationEngine, RotationEngine=RotationEngine,
     KinematicEngine=KinematicEngine, HelixEngine=HelixEngine, CombinedKinematicEngine=CombinedKinematicEngine,
     ParallelEngine=ParallelEngine,
