@@ -11,8 +11,8 @@
 # BENCH_DUMP=path: after the run, write the sphere positions and velocities (%.17g, one line "x y z vx vy vz"
 # per sphere) to check bitwise determinism across thread counts.
 # Runs unmodified with `granum -jN triaxial_compression.py` and `yade -n -x -jN triaxial_compression.py`.
-# Prints one line:  BENCH name=triaxial_compression ... state=... porosity=... q=... (q: s22 - s11 [Pa],
-# compression positive)
+# Prints one line:  BENCH name=triaxial_compression ... state=... porosity=... q=... (q: s22 - s11 [Pa] from the
+# stresses of the right and top walls (stress(1), stress(3): the controller's wall order), compression positive)
 
 import os
 import sys
@@ -28,10 +28,10 @@ triax = O.engines[4]
 
 measure(O, 'triaxial_compression', n, env_int('BENCH_STEPS', 3000), env_int('BENCH_WARMUP', 1), t_script,
         extra=lambda: {'state': triax.currentState, 'porosity': f'{triax.porosity:.6g}',
-                       'q': f'{triax.stress(triax.wall_left_id)[0] - triax.stress(triax.wall_bottom_id)[1]:.6g}'})
+                       'q': f'{triax.stress(1)[0] - triax.stress(3)[1]:.6g}'})
 dump = os.environ.get('BENCH_DUMP', '')
 if dump:
     with open(dump, 'w') as f:
         for b in O.bodies:
             if isinstance(b.shape, Sphere):
-                f.write(' '.join('%.17g' % v for v in list(b.state.pos) + list(b.state.vel)) + '\n')
+                f.write(' '.join(f'{v:.17g}' for v in list(b.state.pos) + list(b.state.vel)) + '\n')

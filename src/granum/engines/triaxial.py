@@ -130,12 +130,12 @@ class TriaxialStressController(GlobalEngine):
     @property
     def updatePorosity(self) -> bool:
         """Set True to recompute the spheres' volume at the next step (bodies erased...); reads False after."""
-        return not self._out[k.T_SPHERES_VOLUME] == self._out[k.T_SPHERES_VOLUME]
+        return bool(self._out[k.T_SPHERES_VOLUME] < 0)
 
     @updatePorosity.setter
     def updatePorosity(self, on) -> None:
         if on:
-            self._out[k.T_SPHERES_VOLUME] = math.nan
+            self._out[k.T_SPHERES_VOLUME] = -1.0
 
     @property
     def strain(self) -> Vector3:

@@ -155,7 +155,7 @@ class TriaxialCompressionEngine(_ServoEngine):
         "autoCompressionActivation": Attr(True, "Start the loading after the compaction (or unloading)", to_bool),
         "autoStopSimulation": Attr(False, "Stop the simulation in STATE_LIMBO (YADE 2023.02a never enters it: "
                                           "no effect, as there)", to_bool),
-        "isAxisymetric": Attr(False, "The three goals follow sigma_iso at every step", to_bool),
+        "isAxisymetric": Attr(True, "The three goals follow sigma_iso at every step", to_bool),
         "epsilonMax": Attr(0.5, "|axial strain| at which the loading walls stop [-]",
                            to_float("epsilonMax", allow_nan=False)),
         "uniaxialEpsilonCurr": Attr(1.0, "Kept for YADE's scripts (YADE 2023.02a never updates it: 1)",

@@ -52,7 +52,7 @@ T_MEAN = 33           # mean stress [Pa]
 T_VOL_STRAIN = 34     # volumetric strain [-]
 T_POROSITY = 35       # porosity of the box [-]
 T_BOX_VOLUME = 36     # width * height * depth [m^3]
-T_SPHERES_VOLUME = 37  # volume of the spheres [m^3]; NaN: to be computed
+T_SPHERES_VOLUME = 37  # volume of the spheres [m^3]; NaN (never computed) or -1 (updatePorosity): to be computed
 T_MAX_MULT = 38       # maxMultiplier (becomes finalMaxMultiplier) [-]
 T_PREV_MULT = 39      # the last radius multiplier [-]
 T_PREV_STRESS = 40    # the mean stress it was computed from [Pa]
@@ -174,7 +174,7 @@ def triaxial_control(S, C, P, internal):
     out, walls, goal = P.out, P.walls, P.goal
     it = S.iscal[SI_ITER]
     dt = S.scal[S_DT]
-    if not out[T_SPHERES_VOLUME] == out[T_SPHERES_VOLUME]:
+    if not out[T_SPHERES_VOLUME] >= 0.0:
         out[T_SPHERES_VOLUME] = spheres_volume(S)
     box_sizes(S, walls, P.thickness, out)
     for a in range(3):

@@ -56,18 +56,23 @@ class FileGenerator(Attributed):
 
     _attrs: dict = {}
 
+    def check(self) -> None:
+        """Refuse bad parameters before any scene is touched."""
+
     def build(self, omega) -> None:
         """Fill ``omega``'s (empty) current scene."""
         raise NotImplementedError
 
     def load(self) -> None:
         """Replace the current scene by the generated one."""
+        self.check()
         O = _omega()
         O.resetThisScene()
         self.build(O)
 
     def generate(self, out) -> None:
         """Save the generated scene to ``out`` (format by extension, as O.save); the current scene stays."""
+        self.check()
         O = _omega()
         O.switchScene()
         try:
@@ -174,15 +179,18 @@ class TriaxialTest(FileGenerator):
             size = size * (volume / size.prod()) ** (1.0 / 3.0)
         return lo, lo + size
 
+    def check(self) -> None:
+        self.corners()
+        if self.dampingMomentum != self.dampingForce:
+            raise NotImplementedError("TriaxialTest: dampingMomentum different from dampingForce is not implemented "
+                                      "in granum (NewtonIntegrator has one damping)")
+
     def build(self, omega) -> None:
         from granum.yade import utils
         from granum.yade.materials import CLASSES
         from granum.yade.pack import SpherePack
         from granum.yade.recorders import TriaxialStateRecorder
 
-        if self.dampingMomentum != self.dampingForce:
-            raise NotImplementedError("TriaxialTest: dampingMomentum different from dampingForce is not implemented "
-                                      "in granum (NewtonIntegrator has one damping)")
         lo, hi = self.corners()
         sp = SpherePack()
         sp.makeCloud(Vector3(*lo), Vector3(*hi), self.radiusMean, self.radiusStdDev, self.numberOfGrains, False,
