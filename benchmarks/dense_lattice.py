@@ -10,6 +10,10 @@
 # momentRotationLaw=True, etaRoll=etaTwist=0.1, Ig2_*_ScGeom6D,
 # Ip2_CohFrictMat_CohFrictMat_CohFrictPhys(setCohesionNow=True: every contact of the first step is
 # cohesive), Law2_ScGeom6D_CohFrictPhys_CohesionMoment(useIncrementalForm=True)),
+# BENCH_LAW=cpm: the concrete particle model, CpmMat(young=1e8, poisson=0.3, frictionAngle=30 deg,
+# density=2600, sigmaT=3e4, epsCrackOnset=1e-4, relDuctility=30) for the spheres, FrictMat for the box,
+# Ip2_CpmMat_CpmMat_CpmPhys (the contacts of the first steps are cohesive), Ip2_FrictMat_CpmMat_FrictPhys,
+# Law2_ScGeom_CpmPhys_Cpm and Cundall-Strack for the box),
 # NewtonIntegrator(damping=0.2, gravity -z), O.dt = 0.5*PWaveTimeStep().
 # At n = 20: 8,000 spheres and about 25,000 contacts (3 n^2 (n-1) sphere-sphere + walls).
 #
@@ -19,7 +23,7 @@
 # write the sphere positions and angular velocities to path (one line "x y z wx wy wz" per
 # sphere, %.17g) to check bitwise determinism across thread counts and runs. BENCH_NAME overrides
 # the name printed (benchmarks/run uses scaling_N, dense_lattice_mindlin, cohesive_lattice).
-# BENCH_LAW: the contact law (mindlin, cohesive; user: Cundall-Strack as a user's law, granum only).
+# BENCH_LAW: the contact law (mindlin, cohesive, cpm; user: Cundall-Strack as a user's law, granum only).
 # Prints one line:  BENCH name=dense_lattice ...
 
 import os
@@ -45,6 +49,10 @@ if LAW == 'cohesive':
                                          etaRoll=0.1, etaTwist=0.1))
 else:
     mat = O.materials.append(FrictMat(young=1e8, poisson=0.3, frictionAngle=radians(30), density=2600))
+wallMat = mat
+if LAW == 'cpm':
+    mat = O.materials.append(CpmMat(young=1e8, poisson=0.3, frictionAngle=radians(30), density=2600, sigmaT=3e4,
+                                    epsCrackOnset=1e-4, relDuctility=30))
 
 # centres x = r + i*s (i = 0..n-1) on each axis, x fastest, z slowest
 sphereIds = O.bodies.append(
@@ -53,7 +61,7 @@ sphereIds = O.bodies.append(
 # walls through the outer spheres, overlapping them by r*overlap like the neighbours do
 half = 0.5 * (n - 1) * s + r * (1 - overlap)
 c = r + 0.5 * (n - 1) * s
-O.bodies.append(geom.facetBox((c, c, c), (half, half, half), material=mat))
+O.bodies.append(geom.facetBox((c, c, c), (half, half, half), material=wallMat))
 
 geoms = [Ig2_Sphere_Sphere_ScGeom(), Ig2_Facet_Sphere_ScGeom()]
 ip2, law = Ip2_FrictMat_FrictMat_FrictPhys(), Law2_ScGeom_FrictPhys_CundallStrack()
@@ -62,6 +70,9 @@ if LAW == 'user':  # granum only: the same law written as a user's law
     law = Law2_ScGeom_FrictPhys_UserCundallStrack()
 elif LAW == 'mindlin':  # Hertz-Mindlin (granum and YADE)
     ip2, law = Ip2_FrictMat_FrictMat_MindlinPhys(), Law2_ScGeom_MindlinPhys_Mindlin()
+elif LAW == 'cpm':  # the concrete particle model (granum and YADE)
+    ip2 = [Ip2_CpmMat_CpmMat_CpmPhys(), Ip2_FrictMat_CpmMat_FrictPhys()]
+    law = [Law2_ScGeom_CpmPhys_Cpm(), law]
 elif LAW == 'cohesive':  # cohesion with bending and twisting moments (granum and YADE)
     geoms = [Ig2_Sphere_Sphere_ScGeom6D(), Ig2_Facet_Sphere_ScGeom6D()]
     ip2 = Ip2_CohFrictMat_CohFrictMat_CohFrictPhys(setCohesionNow=True)
@@ -72,8 +83,8 @@ O.engines = [
     InsertionSortCollider([Bo1_Sphere_Aabb(), Bo1_Facet_Aabb()]),
     InteractionLoop(
         geoms,
-        [ip2],
-        [law],
+        ip2 if isinstance(ip2, list) else [ip2],
+        law if isinstance(law, list) else [law],
     ),
     NewtonIntegrator(damping=0.2, gravity=(0, 0, -9.81)),
 ]

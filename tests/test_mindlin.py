@@ -205,7 +205,7 @@ def test_save_load_continue_equals_the_uninterrupted_run(yade, tmp_path):
         yade.O.reset()
         yade.O.materials.append(yade.FrictMat(young=1e7, poisson=0.3, density=2600, frictionAngle=0.5))
         sp = yade.pack.SpherePack()
-        sp.makeCloud((0, 0, 0), (1, 1, 1), rMean=0.06, rRelFuzz=0.3, seed=3)
+        sp.makeCloud((0, 0, 0), (1, 1, 0.2), rMean=0.04, rRelFuzz=0.3, seed=3)  # a thin layer: many reach the wall
         sp.toSimulation()
         yade.O.bodies.append(yade.utils.wall(0, axis=2))
         yade.O.engines = [yade.ForceResetter(), yade.InsertionSortCollider([yade.Bo1_Sphere_Aabb(),

@@ -210,25 +210,28 @@ def test_triax_tutorial_as_yade(tmp_path):
     spheres, 8000 steps of confinement, 20 rounds of friction reduction, 8000 steps of compression at -0.02/s)
     under granum, against the same script under YADE 2023.02a (tests/reference/yade/triax_tutorial/seed1).
 
-    Two runs of chaotic packing dynamics only agree statistically: YADE's own peak deviator over makeCloud
-    seeds 1..3 spans 10.9-12.7 kPa and its porosity after compaction 0.428-0.434. granum's run with seed 1 is
-    checked to lie within 5 % of YADE's range for the peak, within that porosity range (0.005 of slack), and
-    its deviator-strain curve (mean per 0.01 of strain) within the band of YADE's three curves widened by 10 % of
-    the peak. (Measured 2026-12-03: peak 11.16 kPa, 12 % below YADE's seed-1 run; porosity 0.4336.)"""
+    makeCloud(seed=1) gives YADE's packing sphere for sphere (test_pack_cloud), so both programs start from the
+    same state; after that, round-off differences grow through the contacts (chaos) and the runs agree only
+    statistically. YADE itself shows how much: the same script with -j2 (seed1_j2: another summation order)
+    peaks 4.3 % below its -j1 run, and their deviator curves differ by up to 1.2 kPa per 0.01 of strain. Checked:
+    the peak deviator within 5 % of YADE's (-j1; the issue's criterion), the porosities after compaction and at
+    the end within 0.002 of YADE's two runs, and the curve (mean deviator per 0.01 of axial strain) within the
+    band of YADE's two curves widened by 1.5 times their largest difference. (Measured 2026-12-03: peak 13.27
+    kPa against YADE's 12.70 (-j1) and 12.16 (-j2); porosity 0.4287 after compaction, YADE 0.4292 and 0.4290.)"""
     script = pathlib.Path(__file__).parents[1] / "examples" / "triax-tutorial" / "script-session1-stages.py"
     r = subprocess.run([sys.executable, "-m", "granum", "-j2", str(script)], cwd=tmp_path, capture_output=True,
                        text=True, timeout=3600)
     assert r.returncode == 0, r.stdout + r.stderr
     ours = _results(tmp_path / "results_triax_base_")
-    refs = [_results(REFERENCE / "triax_tutorial" / f"seed{k}" / "results_triax_base_") for k in (1, 2, 3)]
-    peaks = [_deviator(x)[1].max() for x in refs]
+    refs = [_results(REFERENCE / "triax_tutorial" / run / "results_triax_base_") for run in ("seed1", "seed1_j2")]
     q = _deviator(ours)[1]
-    assert 0.95 * min(peaks) <= q.max() <= 1.05 * max(peaks)
-    compacted = [x["porosity"][0] for x in refs]
-    assert min(compacted) - 0.005 <= ours["porosity"][0] <= max(compacted) + 0.005
+    assert abs(q.max() / _deviator(refs[0])[1].max() - 1) <= 0.05
+    for k in (0, -1):  # after compaction (the start of the compression) and at the end
+        values = [x["porosity"][k] for x in refs]
+        assert min(values) - 0.002 <= ours["porosity"][k] <= max(values) + 0.002
     edges = np.linspace(0, 0.1, 11)  # mean deviator per 0.01 of axial strain: the curves are noisy step to step
-    binned = [[q_[(e >= a) & (e < b)].mean() for a, b in zip(edges[:-1], edges[1:], strict=True)]
-              for e, q_ in map(_deviator, refs + [ours])]
-    low, high, mine = np.min(binned[:3], axis=0), np.max(binned[:3], axis=0), np.array(binned[3])
-    slack = 0.1 * max(peaks)
+    binned = np.array([[q_[(e >= a) & (e < b)].mean() for a, b in zip(edges[:-1], edges[1:], strict=True)]
+                       for e, q_ in map(_deviator, refs + [ours])])
+    low, high, mine = binned[:2].min(axis=0), binned[:2].max(axis=0), binned[2]
+    slack = 1.5 * np.max(high - low)
     assert np.all((low - slack <= mine) & (mine <= high + slack)), (low, mine, high)

@@ -13,19 +13,27 @@ import importlib.abc
 import importlib.util
 import os
 import sys
+import time
 import types
 
 
 class _YadeAlias(importlib.abc.MetaPathFinder, importlib.abc.Loader):
-    """Resolve ``yade`` and ``yade.*`` to ``granum.yade`` (installed by the launcher only)."""
+    """Resolve ``yade`` and ``yade.*`` to ``granum.yade``, ``gts`` (PyGTS, which YADE scripts import) to
+    ``granum.yade.gts`` and the top-level ``bf`` to ``granum.yade.bf`` (installed by the launcher only): YADE's
+    launcher puts its package folder on ``sys.path``, and its breakage examples ``from bf import ...``."""
+
+    #: top-level names of yade submodules that YADE's scripts import without ``yade.``
+    TOP_LEVEL = ("bf", "gts")
 
     def find_spec(self, fullname, path=None, target=None):
-        if fullname == "yade" or fullname.startswith("yade."):
+        top = fullname.split(".")[0]
+        if fullname == "yade" or fullname.startswith("yade.") or top in self.TOP_LEVEL:
             return importlib.util.spec_from_loader(fullname, self)
         return None
 
     def create_module(self, spec):
-        return importlib.import_module("granum." + spec.name)
+        name = spec.name if spec.name.split(".")[0] == "yade" else "yade." + spec.name
+        return importlib.import_module("granum." + name)
 
     def exec_module(self, module):
         sys.modules[module.__spec__.name] = module
@@ -48,6 +56,11 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--wait", action="store_true",
                    help="when the script returns with a run going on in the background (O.run()), let it go on "
                         "until the script's own hooks pause it (or Ctrl-C); without it the run stops there")
+    p.add_argument("--view", action="store_true",
+                   help="serve a live 3D view, controller and plots of the script's scene in the browser "
+                        "(needs granum[view]); the URL printed holds an access token; Ctrl-C quits")
+    p.add_argument("--view-host", default="127.0.0.1", metavar="HOST",
+                   help="interface the view listens on (default 127.0.0.1, loopback only: use an SSH tunnel)")
     p.add_argument("--version", action="version", version=f"granum {__version__}")
     p.add_argument("script", nargs="?", help="YADE script to run")
     p.add_argument("args", nargs=argparse.REMAINDER, help="arguments passed to the script as sys.argv[1:]")
@@ -116,14 +129,39 @@ def main(argv: list[str] | None = None) -> int:
         return batch_main(argv[1:])
     args = _parser().parse_args(argv)
     _set_threads(args.threads)
+    from granum.yade import view
+
+    if args.script is None or args.view:
+        view.allow(args.view_host)   # a view asked for: the prompt, or --view
+    else:
+        view.forbid()                # a script run opens no port
     if args.script is None:
         interactive()
         return 0
     if not os.path.exists(args.script):
         print(f"granum: no such script: {args.script}", file=sys.stderr)
         return 2
+    if args.view:
+        view.open_view()
     run_script(args.script, args.args, args.threads)
+    if args.view:
+        return serve_until_interrupted()
     return finish_background_run(args.wait)
+
+
+def serve_until_interrupted() -> int:
+    """``--view``: the script has returned; the page stays up (the run goes on if it was started) until
+    Ctrl-C, which stops a run at a step boundary and ends the process."""
+    from granum.yade import O
+
+    print("granum view: the script has returned; Ctrl-C quits", file=sys.stderr)
+    try:
+        while True:
+            time.sleep(3600)
+    except KeyboardInterrupt:
+        O.pause()
+        O.wait()
+    return 0
 
 
 def finish_background_run(wait: bool) -> int:

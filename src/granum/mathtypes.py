@@ -490,6 +490,16 @@ class Matrix3(_Real):
     def col(self, i):
         return Vector3._new(self._a[:, _index(i, 3)].copy())
 
+    @staticmethod
+    def rows():
+        """Number of rows (3), as minieigen's."""
+        return 3
+
+    @staticmethod
+    def cols():
+        """Number of columns (3), as minieigen's."""
+        return 3
+
     def diagonal(self):
         return Vector3._new(self._a.diagonal().copy())
 

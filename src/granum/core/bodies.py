@@ -32,6 +32,14 @@ def dofs_to_string(bits: int) -> str:
     return "".join(ch for k, ch in enumerate(DOF_LETTERS) if bits >> k & 1)
 
 
+#: Slots of the body column ``cpm_state`` (a CpmState's post-processing values, :mod:`granum.yade.cpm`)
+CPM_IS_STATE = 0        # 1: the body's state is a CpmState (its material's associated state) [-]
+CPM_NORM_DMG = 1        # normDmg: 1 - relative residual strength, averaged with the broken contacts [-]
+CPM_NUM_CONTACTS = 2    # numContacts (YADE's CpmStateUpdater leaves it as set) [-]
+CPM_EPS_VOLUMETRIC = 3  # epsVolumetric (YADE's leaves it as set) [-]
+CPM_STRESS = 4          # 4..12 stress, a Matrix3 row by row [Pa]
+CPM_STATE_WIDTH = 13
+
 BODY_COLUMNS = (
     Column("pos", (3,), "f8", 0.0, "Centre of mass (sphere/box centre, facet inscribed-circle centre) [m], (N, 3)."),
     Column("vel", (3,), "f8", 0.0, "Linear velocity at the last mid-step [m/s], (N, 3)."),
@@ -64,12 +72,24 @@ BODY_COLUMNS = (
     Column("torque", (3,), "f8", 0.0, "Torque accumulated during the current step [N m], (N, 3)."),
     Column("perm_force", (3,), "f8", 0.0, "Permanent force, survives ForceResetter [N], (N, 3).", lazy=True),
     Column("perm_torque", (3,), "f8", 0.0, "Permanent torque, survives ForceResetter [N m], (N, 3).", lazy=True),
+    Column("cpm_broken", (), "i8", 0, "Contacts of the concrete model that ended (CpmState.numBrokenCohesive), "
+           "counted by Law2_ScGeom_CpmPhys_Cpm, (N,).", lazy=True),
+    Column("cpm_state", (CPM_STATE_WIDTH,), "f8", 0.0,
+           "CpmState of the body: CPM_* slots below (written by CpmStateUpdater), (N, CPM_STATE_WIDTH).", lazy=True),
     Column("bound_min", (3,), "f8", math.nan,
            "Lower corner of the axis-aligned bound incl. Verlet distance [m], (N, 3); NaN until the collider runs."),
     Column("bound_max", (3,), "f8", math.nan,
            "Upper corner of the axis-aligned bound incl. Verlet distance [m], (N, 3); NaN until the collider runs."),
     Column("bound_pos", (3,), "f8", 0.0, "Position when the bound was last computed [m], (N, 3)."),
     Column("bound_ori", (4,), "f8", (1.0, 0.0, 0.0, 0.0), "Orientation when the bound was last computed, (N, 4)."),
+)
+
+
+#: When each body of a scene was appended (YADE's ``Body.iterBorn``/``timeBorn``); a table of its own,
+#: beside the body table, because no kernel reads it (the kernels' record stays as it is).
+BORN_COLUMNS = (
+    Column("iter", (), "i8", -1, "Step (O.iter) at which the body was appended, -1 if never, (N,)."),
+    Column("time", (), "f8", -1.0, "Simulated time (O.time) at which the body was appended [s], -1 if never, (N,)."),
 )
 
 

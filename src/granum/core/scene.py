@@ -30,7 +30,7 @@ from granum.core.arrays import (
     SI_PERIODIC,
     SI_TRACK_ENERGY,
 )
-from granum.core.bodies import new_body_table
+from granum.core.bodies import BORN_COLUMNS, new_body_table
 from granum.core.contacts import (
     C_COLLIDE,
     C_CONTACTS,
@@ -110,6 +110,7 @@ class Scene(BodyStore):
         self.cell_ref_hsize = np.eye(3)
         self.cell_bound_hsize = np.eye(3)
         self.iscal[SI_HOMO_DEFORM] = 2
+        self.born = Table(BORN_COLUMNS, 64)  # per body id, beside the body table (not a kernel input)
         self.engines: list = []
         self.tags: dict = default_tags()
         self.stop_at_iter = 0
@@ -202,6 +203,7 @@ class Scene(BodyStore):
     def clear_bodies(self) -> None:
         """Remove all bodies and interactions; keep engines, materials and the clock."""
         self.bodies.clear()
+        self.born.clear()
         self.clump_members.clear()
         for t in self.shapes.values():
             t.clear()
@@ -210,6 +212,8 @@ class Scene(BodyStore):
     def add_body_row(self) -> int:
         """Append a body row (all defaults); return its id."""
         i = self.bodies.append_rows(1)
+        k = self.born.append_rows(1)
+        self.born.iter[k], self.born.time[k] = self.iter, self.time
         self.needs_collider()
         return i
 

@@ -7,6 +7,7 @@ compiled function. One class is generated per registered functor, named as in YA
 from __future__ import annotations
 
 import importlib
+import math
 
 import numpy as np
 
@@ -30,7 +31,7 @@ class Functor(Attributed):
         compiled = self.spec.compiled_params()
         for p in self.spec.params:
             value = getattr(self, p.name)
-            if not p.supported and value != p.default and value is not p.default:
+            if not p.supported and not _same(value, p.default):
                 raise NotImplementedError(f"{type(self).__name__}.{p.name}={value!r} is not supported by granum "
                                           f"yet (only the default {p.default!r})")
         return [float(getattr(self, p.name)) for p in compiled]
@@ -38,6 +39,13 @@ class Functor(Attributed):
     def prepare(self, scene) -> None:
         """Called by the engine listing the functor when it builds its parameters, before a run of ``scene``
         (a functor's mixin, ``registry.Functor.python``, may act on the scene then); nothing by default."""
+
+
+def _same(value, default) -> bool:
+    """Whether an attribute still holds its default (NaN, which never equals itself, included)."""
+    if value is default or value == default:
+        return True
+    return isinstance(value, float) and isinstance(default, float) and math.isnan(value) and math.isnan(default)
 
 
 class BoundFunctor(Functor):

@@ -37,6 +37,7 @@ from granum.engines.status import status_message
 from granum.kernels import steploop
 from granum.kernels.cell import step_begin, step_end
 from granum.kernels.static import Static
+from granum.physics import cpm
 
 #: Longest wall-clock time of one compiled chunk [s].
 CHUNK_SECONDS = 0.25
@@ -164,6 +165,10 @@ class Runner:
     def check_scene(self) -> None:
         """Errors that would otherwise surface as NaN inside the kernels."""
         b = self.scene.bodies
+        i = cpm.body_without_state(b, self.scene.materials)
+        if i >= 0:
+            raise SimulationError(f"body {i} has a CpmMat material but a plain State; the concrete model needs a "
+                                  f"CpmState (give it CpmState(), or make it with utils.sphere)")
         n = b.count
         standalone = (b.clump_id[:n] < 0) | (b.clump_id[:n] == np.arange(n))  # clump members move with the clump
         free = b.alive[:n] & (b.blocked[:n] & 0b111 != 0b111) & standalone

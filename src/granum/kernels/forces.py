@@ -1,7 +1,7 @@
-"""Stages that set forces or impose motion: ForceResetter, GravityEngine, ForceEngine and the kinematic
-engines (TranslationEngine, RotationEngine, HelixEngine, their combinations).
+"""Stages that set forces: ForceResetter, GravityEngine, ForceEngine and TorqueEngine (the kinematic engines'
+stage is in :mod:`granum.kernels.kinematic`, the other force fields' in :mod:`granum.kernels.fields`).
 
-Each writes only the rows of its own bodies, in parallel over blocks of bodies.
+ForceResetter writes only the rows of its own bodies, in parallel over blocks of bodies.
 """
 
 from __future__ import annotations
@@ -14,7 +14,6 @@ from granum._jit import BLOCK, PARALLEL_THRESHOLD, jit, kernel, prange
 from granum.core.arrays import E_GRAV_WORK, S_DT, SI_NBODIES, SI_TRACK_ENERGY
 from granum.core.records import raw
 from granum.kernels.schedule import block_queue, next_block, queue_workers
-from granum.physics.vec import load3, quat_from_rotvec, quat_rotate, scale, sub
 
 
 @jit
@@ -80,65 +79,19 @@ def gravity_stage(S, C, P):
 
 
 class ForceParams(NamedTuple):
-    """Parameters of :func:`force_stage` (ForceEngine)."""
+    """Parameters of :func:`force_stage` (ForceEngine, TorqueEngine)."""
 
-    ids: np.ndarray    #: the bodies, (n,) int64
-    force: np.ndarray  #: force added to each [N], (3,) float64
+    ids: np.ndarray     #: the bodies, (n,) int64
+    force: np.ndarray   #: force added to each [N], (3,) float64
+    torque: np.ndarray  #: torque added to each [N m], (3,) float64
 
 
 @jit
 def force_stage(S, C, P):
-    """ForceEngine: F += force on the listed bodies; ``P``: :class:`ForceParams`."""
-    force = P.force
+    """ForceEngine and TorqueEngine: F += force and T += torque on the listed bodies; ``P``: :class:`ForceParams`."""
+    force, torque = P.force, P.torque
+    body_force, body_torque = S.force, S.torque  # read once: a store could make the loop reload them
     for i in P.ids:
         for k in range(3):
-            S.force[i, k] += force[k]
-
-
-#: columns of a part row of :func:`kinematic_stage`: velocity (3) [m/s], unit axis (3), angular speed [rad/s],
-#: point of the axis (3) [m], 1.0 if the bodies orbit the axis
-K_VEL, K_AXIS, K_SPEED, K_ZERO, K_ORBIT, K_COLS = 0, 3, 6, 7, 10, 11
-
-
-class KinematicParams(NamedTuple):
-    """Parameters of :func:`kinematic_stage`."""
-
-    ids: np.ndarray     #: the bodies, (n,) int64
-    parts: np.ndarray   #: one row per part, in order, (K, K_COLS) float64
-    turned: np.ndarray  #: angle each part turned so far [rad], (K,) float64; the stage adds to it
-
-
-@jit
-def kinematic_stage(S, C, P):
-    """Kinematic engines (YADE's KinematicEngine: TranslationEngine, RotationEngine, HelixEngine and their
-    combinations): the velocity and angular velocity of the listed bodies are reset, then each part adds its
-    own motion, in order.
-
-    ``P``: :class:`KinematicParams`. Part k adds to every listed body
-    vel += velocity_k, angVel += speed_k axis_k and, if it orbits, the chord of the circle about the axis
-    through zero_k, vel += (R(speed_k dt, axis_k)(x - zero_k) + zero_k - x) / dt, which puts the body on
-    the circle after the step; turned[k] += speed_k dt [rad] (HelixEngine.angleTurned).
-    """
-    ids, parts, turned = P.ids, P.parts, P.turned
-    dt = S.scal[S_DT]
-    vel, ang_vel, pos = S.vel, S.ang_vel, S.pos  # read once: a store could make the loop reload them
-    for i in ids:
-        for j in range(3):
-            vel[i, j] = 0.0
-            ang_vel[i, j] = 0.0
-    for k in range(parts.shape[0]):
-        speed = parts[k, K_SPEED]
-        axis = (parts[k, K_AXIS], parts[k, K_AXIS + 1], parts[k, K_AXIS + 2])
-        zero = (parts[k, K_ZERO], parts[k, K_ZERO + 1], parts[k, K_ZERO + 2])
-        q = quat_from_rotvec(scale(axis, speed * dt))
-        orbit = parts[k, K_ORBIT] != 0.0
-        for i in ids:
-            for j in range(3):
-                vel[i, j] += parts[k, K_VEL + j]
-                ang_vel[i, j] += speed * axis[j]
-            if orbit:
-                r = sub(load3(pos, i), zero)
-                chord = sub(quat_rotate(q, r), r)
-                for j in range(3):
-                    vel[i, j] += chord[j] / dt
-        turned[k] += speed * dt
+            body_force[i, k] += force[k]
+            body_torque[i, k] += torque[k]

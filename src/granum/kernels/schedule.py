@@ -39,29 +39,10 @@ from numba.core import cgutils
 from numba.extending import intrinsic
 
 from granum._jit import SERIAL_GLOBALS, jit
+from granum.core.atomic import fetch_add
 
 #: int64 slots per worker in a queue: its range's counter and its cursor on a cache line of their own
 _SLOTS = 8
-
-
-@intrinsic
-def fetch_add(typingctx, a, i, v):
-    """Atomically add ``v`` to ``a[i]`` (1-d int64 array) and return the value before.
-
-    No bounds check and no negative indexing: ``0 <= i < len(a)`` is the caller's to keep."""
-    if not (isinstance(a, types.Array) and a.ndim == 1 and a.dtype == types.int64
-            and isinstance(i, types.Integer) and isinstance(v, types.Integer)):
-        return None
-
-    def codegen(context, builder, sig, args):
-        aryty = sig.args[0]
-        ary = context.make_array(aryty)(context, builder, args[0])
-        ptr = cgutils.get_item_pointer(context, builder, aryty, ary, [args[1]])
-        val = context.cast(builder, args[2], sig.args[2], types.int64)
-        # only atomicity is needed: the end of the parallel loop orders the blocks' writes
-        return builder.atomic_rmw("add", ptr, val, "monotonic")
-
-    return types.int64(a, i, v), codegen
 
 
 @intrinsic

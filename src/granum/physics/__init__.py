@@ -22,3 +22,4 @@ from granum.physics import (  # noqa: F401  (imported for their registrations)
 # Each law's history groups start right after the groups it combines with (register_history(after=...)),
 # sharing columns with the other laws' groups, so a pool is only as wide as its own laws need.
 importlib.import_module("granum.physics.cohfrict")   # ScGeom6D (physics.scgeom6d) and the cohesive law
+importlib.import_module("granum.physics.cpm")        # the concrete particle model

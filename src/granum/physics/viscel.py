@@ -10,7 +10,9 @@ per body of mass m:
     k_s = \\frac{2}{7}\\,m\\,\\frac{\\pi^2 + \\ln^2 e_t}{t_c^2},\\quad c_s = -\\frac{2}{7}\\,\\frac{2 m \\ln e_t}{t_c}
 
 and the two bodies' values combine in series (x = x1 x2 / (x1 + x2)); a massless
-body (facet, wall) is rigid and leaves the other body's value. For two equal free
+body (facet, wall) counts with the other body's mass, as in YADE 2023.02a (measured:
+tests/reference/yade/viscel_facet.py): a sphere on a facet gets the constants of
+reduced mass m/2, as if the facet were a sphere of equal mass. For two equal free
 spheres this is the damped oscillator of reduced mass m/2 with duration tc and
 restitution en; because the force may not pull the bodies together, the measured
 restitution is somewhat higher than ``en`` (as in YADE).
@@ -117,12 +119,8 @@ def body_constants(m, mat):
 
 
 @jit
-def series(x1, x2, rigid1, rigid2):
-    """Two springs (or dashpots) in series; a rigid body leaves the other's value."""
-    if rigid1:
-        return x2
-    if rigid2:
-        return x1
+def series(x1, x2):
+    """Two springs (or dashpots) in series."""
     den = x1 + x2
     return x1 * x2 / den if den != 0.0 else 0.0
 
@@ -132,16 +130,16 @@ def phys_viscel(c, id1, id2, S, C, prm):
     """ViscElPhys constants of a new contact (see the module docstring)."""
     m1 = S.mat[S.material[id1]]
     m2 = S.mat[S.material[id2]]
-    # a massless body only matters through the time/restitution form, where it is rigid
-    rigid1 = S.mass[id1] == 0.0 and m1[M_TC] == m1[M_TC]
-    rigid2 = S.mass[id2] == 0.0 and m2[M_TC] == m2[M_TC]
-    a = body_constants(S.mass[id1], m1)
-    b = body_constants(S.mass[id2], m2)
+    # a massless body (facet, wall) takes the other body's mass (YADE's rule)
+    mass1 = S.mass[id1] if S.mass[id1] > 0.0 else S.mass[id2]
+    mass2 = S.mass[id2] if S.mass[id2] > 0.0 else S.mass[id1]
+    a = body_constants(mass1, m1)
+    b = body_constants(mass2, m2)
     f = C.con_f
-    f[c, F_KN] = series(a[0], b[0], rigid1, rigid2)
-    f[c, F_CN] = series(a[1], b[1], rigid1, rigid2)
-    f[c, F_KS] = series(a[2], b[2], rigid1, rigid2)
-    f[c, F_CS] = series(a[3], b[3], rigid1, rigid2)
+    f[c, F_KN] = series(a[0], b[0])
+    f[c, F_CN] = series(a[1], b[1])
+    f[c, F_KS] = series(a[2], b[2])
+    f[c, F_CS] = series(a[3], b[3])
     f[c, F_TANPHI] = math.tan(min(m1[M_FRICTION], m2[M_FRICTION]))
 
 

@@ -26,14 +26,30 @@ from granum import idem
 from granum.engines import triaxial_engines as _triaxial_engines
 from granum.engines.base import Engine, GlobalEngine, PartialEngine, PeriodicEngine
 from granum.engines.controllers import PeriTriaxController
+from granum.engines.cpm import CpmStateUpdater
+from granum.engines.domain import DomainLimiter
+from granum.engines.fields import (
+    AxialGravityEngine,
+    CentralConstantAccelerationEngine,
+    DragEngine,
+    ForceEngine,
+    InterpolatingDirectedForceEngine,
+    LinearDragEngine,
+    StepDisplacer,
+    TorqueEngine,
+)
 from granum.engines.functors import CLASSES as _FUNCTORS
 from granum.engines.functors import BoundFunctor, Functor, IGeomFunctor, IPhysFunctor, LawFunctor
 from granum.engines.kinematic import (
+    BicyclePedalEngine,
     CombinedKinematicEngine,
-    ForceEngine,
+    HarmonicMotionEngine,
+    HarmonicRotationEngine,
     HelixEngine,
+    InterpolatingHelixEngine,
     KinematicEngine,
     RotationEngine,
+    ServoPIDController,
     TranslationEngine,
 )
 from granum.engines.parallel import ParallelEngine
@@ -63,6 +79,7 @@ from granum.yade import (  # noqa: F401 - the yade.X modules (_laws: the law cla
     config,
     export,
     geom,
+    gts,
     libVersions,
     linterpolation,
     log,
@@ -77,7 +94,7 @@ from granum.yade import (  # noqa: F401 - the yade.X modules (_laws: the law cla
     ymport,
 )
 from granum.yade.batch import readParamsFromTable, runningInBatch, waitIfBatch
-from granum.yade.bodies import SHAPE_CLASSES, Aabb, Body, Shape, State
+from granum.yade.bodies import SHAPE_CLASSES, Aabb, Body, CpmState, Shape, State
 from granum.yade.cell import Cell
 from granum.yade.interactions import GEOM_VIEWS as _GEOMS
 from granum.yade.interactions import PHYS_VIEWS as _PHYSS
@@ -129,12 +146,20 @@ _namespace.update(
     TriaxialTest=TriaxialTest,
     ForceEngine=ForceEngine, TranslationEngine=TranslationEngine, RotationEngine=RotationEngine,
     KinematicEngine=KinematicEngine, HelixEngine=HelixEngine, CombinedKinematicEngine=CombinedKinematicEngine,
-    ParallelEngine=ParallelEngine,
+    DomainLimiter=DomainLimiter,
+    ParallelEngine=ParallelEngine, HarmonicMotionEngine=HarmonicMotionEngine,
+    HarmonicRotationEngine=HarmonicRotationEngine, InterpolatingHelixEngine=InterpolatingHelixEngine,
+    BicyclePedalEngine=BicyclePedalEngine, ServoPIDController=ServoPIDController, TorqueEngine=TorqueEngine,
+    InterpolatingDirectedForceEngine=InterpolatingDirectedForceEngine, StepDisplacer=StepDisplacer,
+    DragEngine=DragEngine, LinearDragEngine=LinearDragEngine, AxialGravityEngine=AxialGravityEngine,
+    CentralConstantAccelerationEngine=CentralConstantAccelerationEngine,
+    CpmStateUpdater=CpmStateUpdater, CpmState=CpmState,
     SimulationError=SimulationError, Body=Body, State=State, Shape=Shape, Aabb=Aabb, Cell=Cell,
     Interaction=Interaction, Vector2=Vector2, Vector2i=Vector2i, Vector3=Vector3,
     Vector3i=Vector3i, Vector6=Vector6, Matrix3=Matrix3, Quaternion=Quaternion,
     readParamsFromTable=readParamsFromTable, waitIfBatch=waitIfBatch, runningInBatch=runningInBatch,
     utils=utils, geom=geom, pack=pack, plot=plot, qt=qt, timing=timing, ymport=ymport, export=export,
+    gts=gts,  # PyGTS: YADE's scripts find it without importing
 )
 _triaxial_engines.scene_source = lambda: O._scene  # setContactProperties acts on O's scene
 #: YADE's command-line options as its launcher parses them (``opts.threads``...); granum's launcher fills in

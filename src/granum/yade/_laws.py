@@ -1,5 +1,6 @@
 """What a script reads from a law functor about the current scene's contacts: the accumulators and counts
-of ``Law2_ScGeom_MindlinPhys_Mindlin`` (YADE's ``frictionDissipation``, ``ratioSlidingContacts()``...).
+of ``Law2_ScGeom_MindlinPhys_Mindlin`` (YADE's ``frictionDissipation``, ``ratioSlidingContacts()``...), the
+elastic energy of ``Law2_ScGeom_CpmPhys_Cpm``.
 
 They are added to the classes generated from the registry (:mod:`granum.engines.functors`) and computed
 with NumPy from the contacts of ``O``'s scene that this law handles. The energies are sums of the
@@ -11,17 +12,18 @@ from __future__ import annotations
 
 import numpy as np
 
-from granum.core.contacts import C_CONTACTS, F_PEN, FLAG_ALIVE, I_FLAGS, I_LAW
+from granum.core.contacts import C_CONTACTS, F_KN, F_KS, F_PEN, FLAG_ALIVE, I_FLAGS, I_LAW
 from granum.engines.functors import CLASSES
 from granum.kernels.dispatch import code_of
-from granum.physics import mindlin
+from granum.physics import cpm, mindlin
+from granum.yade.interactions import PHYS_VIEWS
 
 MINDLIN = CLASSES["Law2_ScGeom_MindlinPhys_Mindlin"]
 
 
-def _rows(law_name: str) -> np.ndarray:
+def _rows(law_name: str, width: int = mindlin.F_MINDLIN + 27) -> np.ndarray:
     """The ``con_f`` rows of the current scene's live contacts handled by ``law_name`` (0 rows if the pool
-    has no Mindlin columns)."""
+    is narrower than ``width``: it has no such contact)."""
     from granum.yade.omega import O
 
     C = O._scene.contacts
@@ -29,7 +31,7 @@ def _rows(law_name: str) -> np.ndarray:
     ci = C.con_i[:n]
     live = (ci[:, I_FLAGS] & FLAG_ALIVE != 0) & (ci[:, I_LAW] == code_of(law_name))
     f = C.con_f[:n][live]
-    return f if f.shape[1] >= mindlin.F_MINDLIN + 27 else f[:0, :0]
+    return f if f.shape[1] >= width else f[:0, :0]
 
 
 def _column_sum(col: int):
@@ -83,3 +85,34 @@ MINDLIN.ratioSlidingContacts = _ratio_sliding
 MINDLIN.contactsAdhesive = _contacts_adhesive
 MINDLIN.normElastEnergy = _norm_elast_energy
 MINDLIN.preventGranularRatcheting = property(_get_ratcheting, _set_ratcheting, doc=_get_ratcheting.__doc__)
+
+
+def _cpm_elastic_energy(self) -> float:
+    """Elastic energy of the concrete law's contacts, sum of Fn^2 / (2 kn (1 - omega)) + |Fs|^2 / (2 ks) [J]
+    (YADE 2023.02a's: the normal term divides by the damaged stiffness, also in compression; a contact with
+    omega = 1 makes it infinite)."""
+    f = _rows(type(self).__name__, cpm.CPM_E + cpm.CPM_WIDTH)
+    if not f.size:
+        return 0.0
+    fs = f[:, cpm.CPM_FS:cpm.CPM_FS + 3]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        normal = 0.5 * f[:, cpm.CPM_FN] ** 2 / (f[:, F_KN] * (1.0 - f[:, cpm.CPM_OMEGA]))
+        shear = 0.5 * (fs * fs).sum(axis=1) / f[:, F_KS]
+    return float((normal + shear).sum())
+
+
+CLASSES["Law2_ScGeom_CpmPhys_Cpm"].elasticEnergy = _cpm_elastic_energy
+
+
+def _func_g(kappaD, epsCrackOnset, epsFracture, neverDamage=False, damLaw=1) -> float:
+    """Damage omega of the concrete law for the largest equivalent strain kappaD (YADE's CpmPhys.funcG) [-]."""
+    return float(cpm.damage(float(kappaD), float(epsCrackOnset), float(epsFracture), bool(neverDamage), damLaw == 0))
+
+
+def _func_g_inv(omega, epsCrackOnset, epsFracture, neverDamage=False, damLaw=1) -> float:
+    """kappaD whose damage is omega (YADE's CpmPhys.funcGInv) [-]."""
+    return cpm.damage_inverse(float(omega), float(epsCrackOnset), float(epsFracture), bool(neverDamage), int(damLaw))
+
+
+PHYS_VIEWS["CpmPhys"].funcG = staticmethod(_func_g)
+PHYS_VIEWS["CpmPhys"].funcGInv = staticmethod(_func_g_inv)

@@ -21,8 +21,10 @@ the same grid; the members of a clump enter it only once the whole clump is acce
 
 Radii come either from a given array (deterministic sizes, placed in the given order) or
 are drawn one per sphere from a piecewise inverse cumulative distribution (see
-:func:`inverse_cdf`). All random numbers come from NumPy's generator *inside* the compiled
-code, seeded from the ``seed`` argument, so a seed reproduces a cloud bit for bit.
+:func:`inverse_cdf`). ``rsa_fill``'s random numbers are YADE's (:mod:`granum.yade._stdrandom`: std::mt19937
+seeded with ``seed``, drawn in YADE's order: a sphere's radius, then x, y, z per try), so a seed gives YADE's
+cloud; ``clump_fill``'s come from NumPy's generator inside the compiled code. Either way a seed reproduces a
+cloud bit for bit.
 """
 
 from __future__ import annotations
@@ -31,6 +33,7 @@ import numpy as np
 
 from granum._jit import jit
 from granum.kernels.copy import copy_items, copy_rows, copy_to_row
+from granum.yade._stdrandom import mt_new, mt_uniform
 
 __all__ = ["clump_fill", "inverse_cdf", "inverse_cdf_many", "psd_table", "rsa_fill"]
 
@@ -239,7 +242,7 @@ def rsa_fill(pos0, rad0, lo, length, per, radii, cdf, rtab, mass, max_try, seed)
     generation stops. Returns ``(pos, rad, n)``: arrays whose first ``n`` rows are the old
     spheres followed by the new ones.
     """
-    np.random.seed(seed)
+    rng = mt_new(seed)
     n0 = len(rad0)
     given = len(radii) > 0
     rmax = 0.0
@@ -263,15 +266,16 @@ def rsa_fill(pos0, rad0, lo, length, per, radii, cdf, rtab, mass, max_try, seed)
                 break
             r = radii[m]
         else:
-            r = inverse_cdf(np.random.random(), cdf, rtab, mass)
+            r = inverse_cdf(mt_uniform(rng), cdf, rtab, mass)
         m += 1
         placed = False
         for _ in range(max_try):
             for d in range(3):
-                u = np.random.random()
-                if length[d] <= 0.0:
+                if length[d] <= 0.0:  # the flat axis of a 2D packing: no number drawn, as in YADE
                     p[d] = lo[d]
-                elif per:
+                    continue
+                u = mt_uniform(rng)
+                if per:
                     p[d] = lo[d] + u * length[d]
                 else:
                     p[d] = lo[d] + r + u * (length[d] - 2.0 * r)

@@ -13,11 +13,20 @@ from __future__ import annotations
 import numpy as np
 
 from granum.core import validate
-from granum.core.bodies import DOF_ALL, dofs_from_string, dofs_to_string
+from granum.core.bodies import (
+    CPM_EPS_VOLUMETRIC,
+    CPM_IS_STATE,
+    CPM_NORM_DMG,
+    CPM_NUM_CONTACTS,
+    CPM_STRESS,
+    DOF_ALL,
+    dofs_from_string,
+    dofs_to_string,
+)
 from granum.core.contacts import C_CONTACTS, FLAG_ALIVE, I_FLAGS, I_ID1, I_ID2, end_contact
 from granum.core.scene import BodyStore, Scene
 from granum.core.shapes import ShapeKind, shape_type
-from granum.mathtypes import Quaternion, Vector3, as_quat_wxyz, as_vec3
+from granum.mathtypes import Matrix3, Quaternion, Vector3, as_quat_wxyz, as_vec3
 from granum.yade._pausing import pauses_the_run
 
 
@@ -116,6 +125,9 @@ class Body:
     # ---- parts ----------------------------------------------------------------------
     @property
     def state(self) -> State:
+        cpm = self._store.bodies.stored("cpm_state")
+        if self._row < cpm.shape[0] and cpm[self._row, CPM_IS_STATE] != 0.0:
+            return CpmState._view(self)
         return State._view(self)
 
     @state.setter
@@ -123,8 +135,10 @@ class Body:
         if not isinstance(st, State):
             raise TypeError(f"Body.state must be a State, got {st!r}")
         src = st._body
-        for name in State._columns:
+        for name in type(st)._columns:
             self._col(name)[self._row] = src._col(name)[src._row]
+        if not isinstance(st, CpmState) and self._store.bodies.allocated("cpm_state"):
+            self._col("cpm_state")[self._row] = 0.0   # a plain State now
 
     @property
     def shape(self):
@@ -212,6 +226,16 @@ class Body:
             r = np.asarray(Quaternion._wrap(self._col("ori")[self._row]).toRotationMatrix()._a)
             w = self._col("ang_vel")[self._row]
             self._col("ang_mom")[self._row] = r @ (self._col("inertia")[self._row] * (r.T @ w))
+
+    @property
+    def iterBorn(self) -> int:
+        """Step (``O.iter``) at which the body was appended; -1 for a body not in a simulation."""
+        return int(self._store.born.iter[self._row]) if self._attached() else -1
+
+    @property
+    def timeBorn(self) -> float:
+        """Simulated time (``O.time``) at which the body was appended [s]; -1 for a body not in a simulation."""
+        return float(self._store.born.time[self._row]) if self._attached() else -1.0
 
     @property
     def clumpId(self) -> int:
@@ -388,6 +412,63 @@ class State(_View):
 
     def __repr__(self):
         return f"<State instance at {hex(id(self))}>"
+
+
+class CpmState(State):
+    """State of a body of the concrete model (YADE ``CpmState``, the state a CpmMat asks for): the per-body
+    values CpmStateUpdater computes (post-processing only; no physics reads them). numBrokenCohesive is
+    counted by Law2_ScGeom_CpmPhys_Cpm as contacts end."""
+
+    __slots__ = ()
+    _columns = State._columns + ("cpm_state", "cpm_broken")
+
+    def __init__(self, **kw):
+        super().__init__()
+        self._col("cpm_state")[self._row, CPM_IS_STATE] = 1.0
+        for k, v in kw.items():
+            setattr(self, k, v)
+
+    def _slot(self, k: int) -> float:
+        return float(self._col("cpm_state")[self._row, k])
+
+    def _set_slot(self, k: int, value) -> None:
+        self._col("cpm_state")[self._row, k] = float(value)
+
+    normDmg = property(lambda self: self._slot(CPM_NORM_DMG), lambda self, v: self._set_slot(CPM_NORM_DMG, v),
+                       doc="Average damage including the contacts already ended: 1 - relative residual strength [-]")
+    epsVolumetric = property(lambda self: self._slot(CPM_EPS_VOLUMETRIC),
+                             lambda self, v: self._set_slot(CPM_EPS_VOLUMETRIC, v),
+                             doc="Volumetric strain around the body (YADE leaves it as set) [-]")
+    numContacts = property(lambda self: int(self._slot(CPM_NUM_CONTACTS)),
+                           lambda self, v: self._set_slot(CPM_NUM_CONTACTS, int(v)),
+                           doc="Number of contacts (YADE's CpmStateUpdater leaves it as set) [-]")
+
+    @property
+    def numBrokenCohesive(self) -> int:
+        """Number of the body's contacts that the concrete law ended (broken bonds) [-]."""
+        return int(self._col("cpm_broken")[self._row])
+
+    @numBrokenCohesive.setter
+    def numBrokenCohesive(self, value) -> None:
+        self._col("cpm_broken")[self._row] = int(value)
+
+    @property
+    def stress(self):
+        """Stress of the spherical particle, for a packing fraction 0.62 (CpmStateUpdater) [Pa]."""
+        return Matrix3._wrap(self._col("cpm_state")[self._row, CPM_STRESS:CPM_STRESS + 9].reshape(3, 3))
+
+    @stress.setter
+    def stress(self, value) -> None:
+        self._col("cpm_state")[self._row, CPM_STRESS:CPM_STRESS + 9] = np.asarray(value, float).reshape(9)
+
+    @property
+    def damageTensor(self):
+        """YADE's microplane damage tensor: not computed by granum (YADE 2023.02a's values are not
+        reproducible)."""
+        raise NotImplementedError("CpmState.damageTensor is not implemented in granum")
+
+    def __repr__(self):
+        return f"<CpmState instance at {hex(id(self))}>"
 
 
 class Aabb(_View):
@@ -601,7 +682,8 @@ class Clump(Shape):
 
     @property
     def members(self) -> dict:
-        """Member ids and their offsets in the clump frame: ``{id: (Vector3, Quaternion)}``."""
+        """Member ids and their offsets in the clump frame: ``{id: (Vector3, Quaternion)}``, by increasing id
+        (YADE keeps members in a map by id)."""
         from granum.yade.clumps import clump_members
 
         b = self._body
@@ -609,7 +691,7 @@ class Clump(Shape):
             return {}
         bt = b._store.bodies
         return {i: (Vector3(*bt.clump_rel_pos[i]), Quaternion(*bt.clump_rel_ori[i]))
-                for i in clump_members(b._store, b._row)}
+                for i in sorted(clump_members(b._store, b._row))}
 
     @property
     def ids(self) -> list:
@@ -697,8 +779,6 @@ class BodyContainer:
             raise ValueError(f"O.bodies.append: this body is already in a simulation (id {b._row}); "
                              f"create a new body instead of appending it twice")
         src, row = b._store, b._row
-        if src.bodies.shape_kind[row] == ShapeKind.NONE:
-            raise ValueError("O.bodies.append: the body has no shape")
         i = scene.add_body_row()
         scene.bodies.copy_row(src.bodies, row, i)
         kind, table, srow = src.shape_table(row)
@@ -719,11 +799,23 @@ class BodyContainer:
 
     @pauses_the_run
     def erase(self, i: int, eraseClumpMembers: bool = False) -> bool:
-        """Remove body ``i`` and its interactions (its id is not reused)."""
+        """Remove body ``i`` and its interactions (its id is not reused). A clump's members become
+        standalone, or are erased too with ``eraseClumpMembers``; an erased member leaves its clump,
+        whose mass properties are computed again (granum.yade.clump_edits)."""
         i = self._check(i)
         scene = self._scene
         if not scene.bodies.alive[i]:
             return False
+        if scene.bodies.shape_kind[i] == ShapeKind.CLUMP:
+            from granum.yade.clump_edits import dissolve
+
+            for m in dissolve(scene, i):
+                if eraseClumpMembers:
+                    self.erase(m)
+        elif scene.bodies.clump_id[i] >= 0:
+            from granum.yade.clump_edits import erase_member
+
+            erase_member(scene, i)
         scene.bodies.alive[i] = False
         C = scene.contacts
         n = int(C.ctr[C_CONTACTS])
@@ -749,6 +841,49 @@ class BodyContainer:
         """Append ``bodies`` and clump them: ``(clumpId, [member ids])``."""
         ids = self.append(list(bodies))
         return self.clump(ids, discretization), ids
+
+    @pauses_the_run
+    def addToClump(self, ids, clumpId: int, discretization: int = 0) -> None:
+        """Add bodies ``ids`` (a list; a clump or a member of one brings all that clump's members)
+        to clump ``clumpId`` and compute its mass properties again."""
+        from granum.yade.clump_edits import add_to_clump
+
+        add_to_clump(self._scene, ids, clumpId, int(discretization))
+
+    @pauses_the_run
+    def releaseFromClump(self, bid: int, cid: int, discretization: int = 0) -> None:
+        """Make member ``bid`` of clump ``cid`` standalone and compute the clump again (a clump of
+        two members is left alone, with a warning)."""
+        from granum.yade.clump_edits import release_from_clump
+
+        release_from_clump(self._scene, bid, cid, int(discretization))
+
+    @pauses_the_run
+    def updateClumpProperties(self, excludeList=[], discretization: int = 5) -> None:  # noqa: B006 (YADE's default)
+        """Compute the mass properties of every clump not in ``excludeList`` again."""
+        from granum.yade.clump_edits import update_clump_properties
+
+        update_clump_properties(self._scene, excludeList, int(discretization))
+
+    @pauses_the_run
+    def deleteClumpMember(self, clumpBody, memberBody) -> None:
+        """Erase clump member ``memberBody`` of ``clumpBody``; the clump is computed again."""
+        from granum.yade.clump_edits import delete_clump_member
+
+        delete_clump_member(self, clumpBody, memberBody)
+
+    @pauses_the_run
+    def deleteClumpBody(self, clumpBody) -> None:
+        """Erase clump ``clumpBody`` and its members."""
+        from granum.yade.clump_edits import delete_clump_body
+
+        delete_clump_body(self, clumpBody)
+
+    def getRoundness(self, excludeList=[]) -> float:  # noqa: B006 (YADE's default)
+        """Mean roundness R1/R2 of the clumps and standalone spheres not in ``excludeList``."""
+        from granum.yade.clump_edits import roundness
+
+        return roundness(self._scene, excludeList)
 
     @pauses_the_run
     def replaceByClumps(self, templates, amounts, discretization: int = 0) -> list:

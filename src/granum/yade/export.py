@@ -80,6 +80,14 @@ def textExt(filename, format="x_y_z_r", comment="", mask=-1, attrs=()):
     return len(ids)
 
 
+def textClumps(filename, format="x_y_z_r_clumpId", comment="", mask=-1):  # noqa: A002 (YADE's argument name)
+    """Save the spherical clump members as ``x y z r clumpId`` rows (granum.yade.clump_text); return
+    ``(number of clumps, number of spheres)``."""
+    from granum.yade.clump_text import write
+
+    return write(filename, format, comment, mask)
+
+
 def text(filename, mask=-1):
     """Save sphere centres and radii as ``x y z r`` rows (``#format x_y_z_r`` header); return their number."""
     return textExt(filename, "x_y_z_r", mask=mask)

@@ -96,8 +96,9 @@ def _holds(C, row: int, a: int, b: int) -> bool:
 
 class _ContactView:
     """Attributes mapped onto float columns of one contact row (see TypeInfo.fields): a float (width 1; a
-    ``(column, 1, "bool")`` field reads as a bool), a Vector3 (3), a Quaternion (4, w x y z) or a Matrix3 (9).
-    Each field is a property of the generated class (``add_views``): reading one costs O(1)."""
+    ``(column, 1, "bool")`` field reads as a bool, ``(column, 1, "int")`` as an int), a Vector3 (3), a Quaternion
+    (4, w x y z) or a Matrix3 (9). Each field is a property of the generated class (``add_views``): reading one
+    costs O(1)."""
 
     __slots__ = ("_intr",)
     _fields: dict = {}
@@ -132,8 +133,8 @@ def _field_property(name: str, field: tuple) -> property:
     """The property reading and writing ``field`` = (column, width[, "bool"]) of the view's contact row."""
     col, width = field[:2]
     end = col + width
-    is_bool = field[2:] == ("bool",)
-    kind = {1: float, 3: Vector3, 4: Quaternion, 9: Matrix3}[width]
+    scalar = {"bool": bool, "int": int}.get(field[2] if len(field) > 2 else "float", float)
+    kind = {1: scalar, 3: Vector3, 4: Quaternion, 9: Matrix3}[width]
 
     def get(view):
         intr = view._intr
@@ -142,7 +143,7 @@ def _field_property(name: str, field: tuple) -> property:
             intr._row_or_raise()
         a = intr._scene.contacts.con_f
         if width == 1:
-            return bool(a[row, col]) if is_bool else a.item(row, col)
+            return scalar(a.item(row, col))
         return kind._new(a[row, col:end] if width != 9 else a[row, col:end].reshape(3, 3))
 
     def put(view, value):

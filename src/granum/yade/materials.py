@@ -29,6 +29,20 @@ class Material(Attributed):
     def _changed(self, name: str) -> None:
         object.__setattr__(self, "version", self.version + 1)
 
+    def state_class(self) -> type:
+        """The class of state bodies of this material need: CpmState for a CpmMat, else State."""
+        from granum.yade.bodies import CpmState, State
+
+        return CpmState if "CpmMat" in registry.material_ancestry(self.kind) else State
+
+    def newAssocState(self):
+        """A new state of the class bodies of this material need (:meth:`state_class`)."""
+        return self.state_class()()
+
+    def stateTypeOk(self, state) -> bool:
+        """Whether ``state`` is of the class :meth:`newAssocState` makes."""
+        return type(state) is self.state_class()
+
     def column_values(self) -> dict:
         """Material-table columns of this material (see :meth:`granum.core.scene.Scene.material_arrays`)."""
         out = {}
@@ -47,12 +61,12 @@ def _converter(p: registry.Param):
         return one_of(p.name, (1, 2))
     if isinstance(p.default, bool):
         return lambda o, v: bool(v)
-    if isinstance(p.default, float):
-        conv = to_float(p.name)
+    if isinstance(p.default, float) or isinstance(p.default, int) and p.valid is not None:
+        conv = to_float(p.name) if isinstance(p.default, float) else to_int(p.name)
 
         def check(owner, value):
             x = conv(owner, value)
-            p.check(type(owner).__name__, x)
+            p.check(type(owner).__name__, float(x))
             return x
 
         return check

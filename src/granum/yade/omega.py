@@ -183,6 +183,8 @@ class Omega:
         self._stop = False
         self._running = False
         self._namespace: dict | None = None
+        #: called with the scene between compiled chunks of a run (the browser view takes its frames there)
+        self.chunk_hooks: list = []
         self.bodies = BodyContainer(self)
         self.interactions = InteractionContainer(self)
         self.forces = ForceContainer(self)
@@ -503,6 +505,8 @@ class Omega:
                     limit = target - scene.iter if target > scene.iter else 1 << 62
                     stop_time = self.stopAtTime if self.stopAtTime > scene.time else np.inf
                     self._runner.advance(limit, stop_time)
+                    for hook in self.chunk_hooks:
+                        hook(scene)
                     interrupts.raise_pending()   # Ctrl-C lands here, at a step boundary
                     if progress is not None:
                         progress.update(scene.iter - first)

@@ -635,13 +635,14 @@ class SpherePack:
         # 3D: sphere volume 4/3 pi r^3; 2D: disc area pi r^2 (porosity is then an area fraction)
         dim_exp, unit = (2, math.pi) if flat.any() else (3, 4.0 / 3.0 * math.pi)
 
-        def fill(radii=None, cdf=None, rtab=None, mass=False, attempt=0):
+        def fill(radii=None, cdf=None, rtab=None, mass=False):
+            """One insertion from the seed (YADE's retries with a higher porosity start the generator again)."""
             empty = np.empty(0)
             pos, rad, n = _packing.rsa_fill(
                 self._c[: self._n].copy(), self._r[: self._n].copy(), mn, length, bool(periodic),
                 empty if radii is None else np.ascontiguousarray(radii, dtype=np.float64),
                 empty if cdf is None else cdf, empty if rtab is None else rtab,
-                bool(mass), MAX_TRY, (seed + 104729 * attempt) % (1 << 32))
+                bool(mass), MAX_TRY, seed % (1 << 32))
             return pos[:n], rad[:n]
 
         n_old = self._n
@@ -651,15 +652,15 @@ class SpherePack:
             cdf, rtab = _packing.psd_table(psdSizes, psdCumm, distributeMass)
             if num > 0:
                 base = _packing.inverse_cdf_many(_quantiles(num), cdf, rtab, bool(distributeMass))
-                scale, attempt = 1.0, 0
+                scale = 1.0
                 while True:
-                    pos, rad = fill(radii=base * scale, attempt=attempt)
+                    pos, rad = fill(radii=base * scale)
                     if len(rad) - n_old >= num:
                         break
                     # fewer than num fit: shrink all sizes as a porosity step 0.1*(1-p) would
                     new = porosity + 0.1 * (1.0 - porosity)
                     scale *= ((1.0 - new) / (1.0 - porosity)) ** (1.0 / dim_exp)
-                    porosity, attempt = new, attempt + 1
+                    porosity = new
                 if scale != 1.0:
                     warnings.warn(f"makeCloud: the size distribution was scaled down by {scale:g}",
                                   stacklevel=2)
@@ -676,16 +677,15 @@ class SpherePack:
             else:
                 pos, rad = fill(cdf=np.array([0.0, 1.0]), rtab=np.array([rlo, rhi]))
         elif num > 0:
-            attempt = 0
             while True:
                 rm = (volume * (1.0 - porosity) / (unit * (1.0 + z * z) * num)) ** (1.0 / dim_exp)
-                pos, rad = fill(radii=rm * (1.0 - z) + _quantiles(num) * (2.0 * z * rm), attempt=attempt)
+                pos, rad = fill(radii=rm * (1.0 - z) + _quantiles(num) * (2.0 * z * rm))
                 if len(rad) - n_old >= num:
                     break
                 new = porosity + 0.1 * (1.0 - porosity)
                 warnings.warn(f"makeCloud: only {len(rad) - n_old} of {num} spheres fit; "
                               f"trying again with porosity {new:g}", stacklevel=2)
-                porosity, attempt = new, attempt + 1
+                porosity = new
         else:
             raise ValueError("makeCloud: give rMean > 0, or num > 0, or psdSizes/psdCumm")
         self._set(pos, rad, np.concatenate([old_ids, np.full(len(rad) - n_old, -1, np.int64)]))
@@ -760,3 +760,16 @@ class SpherePack:
         self._cell, self.isPeriodic = np.zeros(3), False
         if O.periodic:
             self.cellSize = np.diag(np.asarray(O.cell.hSize)).copy()
+
+
+# the surface predicates and builders (their module imports Predicate from this one)
+from granum.yade._surfacepack import (  # noqa: E402
+    gtsSurface2Facets,
+    inConvexPolyhedron,
+    inGtsSurface,
+    revolutionSurfaceMeridians,
+    sweptPolylines2gtsSurface,
+)
+
+__all__ += ["gtsSurface2Facets", "inConvexPolyhedron", "inGtsSurface", "revolutionSurfaceMeridians",
+            "sweptPolylines2gtsSurface"]

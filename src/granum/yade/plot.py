@@ -24,8 +24,10 @@ Output formats follow what YADE 2023.02a writes, checked against it as a black b
 Plotting is deliberately lazy: ``import granum.yade.plot`` imports only numpy; matplotlib and
 pyplot are imported by :func:`plot` itself.  Without a display (or under a non-interactive
 matplotlib backend) :func:`plot` renders with Agg into a PNG file and returns instead of
-opening a window; see :func:`plot` for the file name.  Live updating of windows during a run
-is not implemented; ``live``, ``liveInterval`` and ``autozoom`` are accepted for compatibility.
+opening a window; see :func:`plot` for the file name.  With a browser view open
+(:mod:`granum.yade.view`) the figures are also shown in its page and redrawn every ``liveInterval``
+seconds while ``live`` (turned on when the view opens, as YADE does with a display); matplotlib windows
+are not updated live, and ``autozoom`` is accepted for compatibility.
 
 Deliberate differences from YADE: all positional dicts given to :func:`addData` are merged
 (YADE silently keeps only the first); :func:`reset` also clears ``labels`` as its YADE
@@ -55,7 +57,7 @@ data: dict[str, list] = {}
 plots: dict = {}
 labels: dict[str, str] = {}
 
-# Accepted for compatibility with YADE scripts; live updating is not implemented.
+# Live updating of the figures in the browser view's page (granum.yade.view), every liveInterval seconds.
 live = False
 liveInterval = 1
 autozoom = True
@@ -532,6 +534,10 @@ def plot(noShow=False, subPlots=True):
         warnings.warn(f'plot: {why}', stacklevel=2)
     if noShow:
         return figs[0] if len(figs) == 1 else figs
+    from granum.yade import view
+
+    if view.current() is not None:   # the browser view's page shows them, updated while `live`
+        view.current().show_plots()
     if headless:
         _save_headless(plt, figs, subPlots, 'no display, figure saved to')
         return None

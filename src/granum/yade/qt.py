@@ -7,7 +7,9 @@
   YADE names them (``snap-00000.png``...).
 * ``qt.Renderer()`` returns the display options (``shape``, ``intrPhys``, ``bgColor``...), which
   the pictures honour.
-* ``qt.Controller()`` and the other windows are accepted and do nothing.
+* with a browser view (``granum --view``, the interactive prompt, Jupyter: see :mod:`granum.yade.view`) the
+  3D view, the controller, the inspector and the live plots are one page; ``qt.Controller()`` and
+  ``qt.Inspector()`` open that page too (they are part of it). Without one they do nothing.
 """
 
 from __future__ import annotations
@@ -40,9 +42,16 @@ def _scene():
 
 
 def View(*args, **kw):
-    """Open a 3D view: a camera framing the current scene, used by snapshots; return it."""
+    """Open a 3D view: a camera framing the current scene, used by snapshots; return it.
+
+    In the interactive prompt, in Jupyter and under ``granum --view``, the scene is also served live in
+    the browser (:mod:`granum.yade.view`); in a plain script run no port is opened and a line says how to
+    see the view."""
+    from granum.yade import view
+
     v = GLViewer(_scene)
     _views.append(v)
+    view.request()
     return v
 
 
@@ -57,12 +66,18 @@ def close() -> None:
 
 
 def Controller(*args, **kw):
-    """Open the controller window (no effect without a screen)."""
+    """Open the controller (part of the browser view's page; no effect without one)."""
+    from granum.yade import view
+
+    view.request()
     return _Inert()
 
 
 def Inspector(*args, **kw):
-    """Open the inspector window (no effect without a screen)."""
+    """Open the inspector (part of the browser view's page; no effect without one)."""
+    from granum.yade import view
+
+    view.request()
     return _Inert()
 
 

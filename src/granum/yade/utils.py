@@ -35,7 +35,8 @@ from granum.core.contacts import (
 from granum.core.shapes import ShapeKind, shape_type
 from granum.engines import interrupts
 from granum.mathtypes import Matrix3, Quaternion, Vector3, as_quat_wxyz, as_vec3
-from granum.yade.bodies import Body, Box, Facet, Sphere, Wall
+from granum.yade.batch import readParamsFromTable
+from granum.yade.bodies import Body, Box, Facet, Sphere, State, Wall
 from granum.yade.cell import det3
 from granum.yade.clump_tools import clumpTemplate
 from granum.yade.materials import Material, default_material
@@ -47,7 +48,7 @@ __all__ = [
     "sphere", "facet", "wall", "box", "aabbWalls", "defaultMaterial", "randomColor", "PWaveTimeStep",
     "unbalancedForce", "kineticEnergy", "sumForces", "getSpheresVolume", "getSpheresMass", "aabbExtrema",
     "avgNumInteractions", "porosity", "createInteraction", "scalarOnColorScale", "setContactFriction",
-    "getStress", "normalShearStressTensors", "fabricTensor", "makeVideo",
+    "getStress", "normalShearStressTensors", "fabricTensor", "makeVideo", "readParamsFromTable",
 ]
 
 _rng = random.Random()
@@ -97,6 +98,8 @@ def _body(factory, shape, center, material, fixed, dynamic, mask, orientation=No
     fixed, dynamic = _flags(factory, fixed=fixed, dynamic=dynamic).values()
     center = _vec3(center, f"{factory}: center")
     b = Body(shape=shape, material=_material(material), mask=as_integer(mask, f"{factory}: mask"))
+    if b.material.state_class() is not State:   # the material needs its own state class (CpmMat: CpmState)
+        b.state = b.material.newAssocState()
     st = b.state
     mass = shape_type(shape.kind).mass
     if mass is not None:
@@ -219,7 +222,7 @@ def _spheres(mask: int = -1):
 
 
 def PWaveTimeStep():
-    """Critical time step of the P-wave: min over spheres of r sqrt(rho / E) [s] (YADE (3.5,34))."""
+    """Critical time step of the P-wave: min over spheres of r / sqrt(E / rho) [s] (YADE (3.5,34))."""
     s = _scene()
     ids, r = _spheres()
     if ids.size == 0:
@@ -234,7 +237,7 @@ def PWaveTimeStep():
     mass = s.bodies.mass[ids]
     rho = np.where(mass > 0, mass / vol, mat[rows, M_DENSITY])
     ok = young > 0
-    return float(np.min(r[ok] * np.sqrt(rho[ok] / young[ok])))
+    return float(np.min(r[ok] / np.sqrt(young[ok] / rho[ok])))  # YADE's order of operations: the same bits
 
 
 def _live_contacts():

@@ -1,0 +1,113 @@
+"""Frames per second of the browser view in headless Chromium, and the view's cost to a running simulation.
+
+Not a YADE script: it drives Debian's chromium through selenium (``granum[view]`` and ``selenium``).
+For each size, ``n`` spheres settle in a facet box (tutorial 02's engines); the page is loaded and the
+camera turned for ``BENCH_SECONDS`` seconds, one turn per animation frame: the fps is the number of
+frames drawn per second (vtk.js on Chromium's software WebGL when there is no GPU). Then the simulation
+runs ``BENCH_STEPS`` steps with the page open; ``hook_share`` is the time spent taking frames between
+compiled chunks and publishing them to the page, over the run's time (the view's server-side cost,
+target <= 5 %; ``seconds_with_view`` also includes Chromium drawing on the same cores).
+
+    python benchmarks/view_fps.py            # BENCH_SIZES=10000,100000 BENCH_SECONDS=5 BENCH_STEPS=200
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import time
+
+TURN = """
+const done = arguments[arguments.length - 1];
+const view = trame.refs.view;
+const cam = view.getCamera();
+const seconds = arguments[0];
+let frames = 0;
+const t0 = performance.now();
+function step(now) {
+  if (now - t0 > seconds * 1000) { done(frames / ((now - t0) / 1000)); return; }
+  const a = frames * 0.05, r = Math.hypot(cam.position[0] - cam.focalPoint[0], cam.position[2] - cam.focalPoint[2]);
+  const f = cam.focalPoint;
+  view.setCamera({position: [f[0] + r * Math.sin(a), cam.position[1], f[2] + r * Math.cos(a)]});
+  frames += 1;
+  requestAnimationFrame(step);
+}
+requestAnimationFrame(step);
+"""
+
+
+def scene(n: int) -> None:
+    from granum.yade import O, geom, pack
+
+    O.reset()
+    side = round(n ** (1 / 3))
+    r = 0.5 / side
+    O.bodies.append(geom.facetBox((0.5, 0.5, 0.5), (0.5, 0.5, 0.5), wallMask=31))
+    O.bodies.append(pack.regularOrtho(pack.inAlignedBox((0, 0, 0), (1, 1, 1)), radius=r * 0.9, gap=r * 0.2))
+    from granum.yade import (
+        Bo1_Facet_Aabb,
+        Bo1_Sphere_Aabb,
+        ForceResetter,
+        Ig2_Facet_Sphere_ScGeom,
+        Ig2_Sphere_Sphere_ScGeom,
+        InsertionSortCollider,
+        InteractionLoop,
+        Ip2_FrictMat_FrictMat_FrictPhys,
+        Law2_ScGeom_FrictPhys_CundallStrack,
+        NewtonIntegrator,
+        utils,
+    )
+
+    O.engines = [ForceResetter(), InsertionSortCollider([Bo1_Sphere_Aabb(), Bo1_Facet_Aabb()]),
+                 InteractionLoop([Ig2_Sphere_Sphere_ScGeom(), Ig2_Facet_Sphere_ScGeom()],
+                                 [Ip2_FrictMat_FrictMat_FrictPhys()], [Law2_ScGeom_FrictPhys_CundallStrack()]),
+                 NewtonIntegrator(gravity=(0, 0, -9.81), damping=0.4)]
+    O.dt = 0.5 * utils.PWaveTimeStep()
+
+
+def main() -> None:
+    from selenium import webdriver
+
+    from granum.yade import O, view
+
+    sizes = [int(x) for x in os.environ.get("BENCH_SIZES", "10000,100000").split(",")]
+    seconds = float(os.environ.get("BENCH_SECONDS", "5"))
+    steps = int(os.environ.get("BENCH_STEPS", "200"))
+    options = webdriver.ChromeOptions()
+    for arg in ("--headless=new", "--no-sandbox", "--window-size=1000,700", "--use-angle=swiftshader",
+                "--enable-unsafe-swiftshader"):
+        options.add_argument(arg)
+    driver = webdriver.Chrome(options=options,
+                              service=webdriver.ChromeService(executable_path=shutil.which("chromedriver")))
+    driver.set_script_timeout(seconds + 120)
+    view.allow()
+    for n in sizes:
+        scene(n)
+        O.run(1, True)          # compiles (or loads) the kernels before anything is timed
+        t0 = time.perf_counter()
+        O.run(steps, True)
+        bare = time.perf_counter() - t0
+        session = view.open_view(open_browser=False)
+        session._idle_key = None
+        driver.get(session.url)
+        spheres = len(O.bodies) - 12
+        end = time.monotonic() + 120
+        while time.monotonic() < end and f"({spheres} spheres)" not in driver.page_source:
+            time.sleep(0.2)
+        time.sleep(2)
+        fps = driver.execute_async_script(TURN, seconds)
+        session.hook_seconds = session.publish_seconds = 0.0
+        taken = session.frames_taken
+        t0 = time.perf_counter()
+        O.run(steps, True)
+        viewed = time.perf_counter() - t0
+        share = (session.hook_seconds + session.publish_seconds) / viewed
+        print(f"BENCH name=view_fps spheres={spheres} fps={fps:.3g} steps={steps} seconds_without_view={bare:.4g} "
+              f"seconds_with_view={viewed:.4g} server_share={share:.2%} hook_s={session.hook_seconds:.3g} "
+              f"publish_s={session.publish_seconds:.3g} frames={session.frames_taken - taken}", flush=True)
+        view.close_view()
+    driver.quit()
+
+
+if __name__ == "__main__":
+    main()

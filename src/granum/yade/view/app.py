@@ -1,0 +1,284 @@
+"""The page: a trame application (vtk.js in the browser) with the 3D view, the controller, the inspector
+and the live plots.
+
+The browser draws everything with vtk.js (WebGL), from arrays the server publishes in trame's shared
+state (``{"bvals": base64, "dtype": ...}`` typed arrays, which vtk.js reads without parsing numbers):
+
+* spheres through one ``vtkGlyph3DMapper`` (a sphere source instanced at each centre, scaled by its
+  radius, coloured by its RGB): one draw call, so 100,000 spheres stay interactive;
+* facets, boxes and walls as one triangle mesh coloured per triangle; the periodic cell, bounds and
+  contact force chains as one set of coloured lines.
+
+The server runs in a thread of its own with its own event loop (aiohttp via trame's wslink). Every
+HTTP and websocket request must carry the access token: the URL printed holds ``?token=...``, the
+first request with it sets a cookie, and any request without the token or the cookie gets 403.
+The controller's buttons run ``O``'s methods on a worker thread, never on the event loop.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import base64
+import hmac
+import io
+import threading
+import time
+
+import numpy as np
+
+from granum.yade.view import frames
+from granum.yade.view.session import Session
+
+_COOKIE = "granum_view_token"
+#: up to this many spheres, the glyph is a finely faceted sphere; beyond, a coarse one (about 5x fewer triangles)
+ROUND_SPHERES = 5000
+
+
+def typed_array(a: np.ndarray) -> dict | list:
+    """A NumPy array as the typed-array record vtk.js components read (base64 of the raw bytes)."""
+    a = np.ascontiguousarray(a)
+    if a.size == 0:   # vtk.js decodes no empty base64 string; an empty list is an empty array to it
+        return []
+    return {"bvals": base64.b64encode(memoryview(a).cast("B")).decode("ascii"), "dtype": str(a.dtype),
+            "shape": list(a.shape)}
+
+
+def _cells(count: int, per: int) -> np.ndarray:
+    """vtk.js cell array of ``count`` cells of ``per`` consecutive points: [per, i, i+1, ..., per, ...]."""
+    idx = np.arange(count * per, dtype=np.uint32).reshape(count, per)
+    return np.concatenate([np.full((count, 1), per, np.uint32), idx], axis=1).ravel()
+
+
+def frame_state(frame: frames.Frame, previous: frames.Frame | None = None) -> dict:
+    """The shared-state entries of one frame (what the page's vtk.js components are bound to); arrays equal
+    to those of the ``previous`` frame published are left out (radii and colours seldom change)."""
+    def same(name):
+        return previous is not None and np.array_equal(getattr(frame, name), getattr(previous, name))
+
+    out = {
+        "sph_points": typed_array(frame.sphere_pos.ravel()),
+        "tri_points": typed_array(frame.tri_points.ravel()),
+        "line_points": typed_array(frame.line_points.ravel()),
+        "n_spheres": int(len(frame.sphere_ids)),
+        # the sphere glyph's facets: round when few, coarse when many (each sphere draws them all)
+        "sph_res": [16, 16] if len(frame.sphere_ids) <= ROUND_SPHERES else [6, 8],
+        "iter": frame.iter,
+        "sim_time": f"{frame.time:.6g}",
+        "bar_lo": f"{frame.value_range[0]:.4g}",
+        "bar_hi": f"{frame.value_range[1]:.4g}",
+    }
+    if not same("sphere_radius"):
+        out["sph_radius"] = typed_array(frame.sphere_radius)
+    if not same("sphere_rgb"):
+        out["sph_rgb"] = typed_array(frame.sphere_rgb.ravel())
+    if not same("tri_rgb"):
+        out["tri_polys"] = typed_array(_cells(len(frame.tri_points), 3))
+        out["tri_rgb"] = typed_array(frame.tri_rgb.ravel())
+    if not same("line_rgb"):
+        out["line_cells"] = typed_array(_cells(len(frame.line_points), 2))
+        out["line_rgb"] = typed_array(frame.line_rgb.ravel())
+    return out
+
+
+def click_ray(position: dict, camera: dict, size) -> tuple[np.ndarray, np.ndarray]:
+    """The ray (origin, direction) through the pixel ``position`` ({x, y} from the lower left corner) of a
+    view of ``size`` (width, height) [px] seen by the vtk.js ``camera`` (position, focalPoint, viewUp,
+    viewAngle [deg] vertical, parallelProjection, parallelScale)."""
+    eye = np.asarray(camera["position"], float)
+    forward = np.asarray(camera["focalPoint"], float) - eye
+    forward /= np.linalg.norm(forward)
+    up = np.asarray(camera["viewUp"], float)
+    up = up - forward * (up @ forward)
+    up /= np.linalg.norm(up)
+    right = np.cross(forward, up)
+    w, h = float(size[0]), float(size[1])
+    u = (2.0 * position["x"] / w - 1.0) * w / h   # horizontal offset, in units of half the view's height
+    v = 2.0 * position["y"] / h - 1.0
+    if camera.get("parallelProjection"):
+        s = float(camera["parallelScale"])
+        return eye + s * (u * right + v * up), forward
+    t = np.tan(np.radians(float(camera["viewAngle"])) / 2)
+    return eye, forward + t * (u * right + v * up)
+
+
+def token_middleware(token: str):
+    """aiohttp middleware refusing (403) every request without ``token`` in its query or cookie."""
+    from aiohttp import web
+
+    @web.middleware
+    async def check(request, handler):
+        given = request.query.get("token", "")
+        if given and hmac.compare_digest(given, token):
+            response = await handler(request)
+            response.set_cookie(_COOKIE, token, httponly=True, samesite="Strict")
+            return response
+        cookie = request.cookies.get(_COOKIE, "")
+        if cookie and hmac.compare_digest(cookie, token):
+            return await handler(request)
+        return web.Response(status=403, text="granum view: this URL needs the access token printed at start\n")
+
+    return check
+
+
+def build_server(session: Session, token: str):
+    """The trame server with the page's layout and callbacks, bound to ``session``."""
+    from trame.app import get_server
+    from trame.ui.html import DivLayout
+    from trame.widgets import html
+    from trame.widgets import vtk as vtkw
+
+    server = get_server(f"granum-view-{id(session)}", client_type="vue3")
+    state, ctrl = server.state, server.controller
+    # trame reads its options from sys.argv, which belongs to the user's script: give it none
+    parse = server.cli.parse_known_args
+    server.cli.parse_known_args = lambda args=None, namespace=None: parse([], namespace)
+
+    state.update(frame_state(session.frame()))
+    state.update(session.panel_state())
+    state.update({"field": session.field, "fields": list(frames.FIELDS), "bar_stops": frames.colormap_stops(),
+                  "run_n": 100, "dt_text": "", "picked": "", "plot_png": "", "plot_rows": 0,
+                  "message": ""})
+
+    @ctrl.add("on_server_bind")
+    def bind(wslink_server):
+        wslink_server.app.middlewares.append(token_middleware(token))
+
+    @ctrl.add("on_server_ready")
+    def ready(**_):
+        session.loop = asyncio.get_running_loop()
+        session.loop.create_task(_pump(session, server))
+
+    def command(name, *args):
+        session.command(name, *args)
+
+    ctrl.play = lambda: command("play")
+    ctrl.pause = lambda: command("pause")
+    ctrl.step = lambda: command("step")
+    ctrl.run_n = lambda n: command("run", n)
+    ctrl.set_dt = lambda text: command("dt", text)
+    ctrl.set_dyn_dt = lambda on: command("dynDt", on)
+    ctrl.reload = lambda: command("reload")
+    ctrl.reset_camera = lambda: view.reset_camera()
+    ctrl.yade_camera = lambda: view.set_camera(session.camera())
+    ctrl.on_client_connected.add(lambda **_: session.loop.call_later(0.5, ctrl.yade_camera))
+
+    def on_press(position, camera, size):
+        """A press of the left button on the view: the inspector shows the body under it."""
+        state.picked = session.pick(*click_ray(position, camera, size))
+
+    @state.change("field")
+    def field_changed(field, **_):
+        session.set_field(field)
+
+    style = ("position:absolute;top:0;right:0;width:330px;bottom:0;overflow:auto;background:#222;color:#eee;"
+             "font:13px sans-serif;padding:8px;box-sizing:border-box")
+    with DivLayout(server, template_name="main"):
+        with html.Div(style="position:absolute;left:0;top:0;bottom:0;right:330px"):
+            # a press sends the pixel, the camera and the view's size: the server casts the ray (click_ray)
+            press = ("[$event.position, trame.refs.view.getCamera(), "
+                     "$event.pokedRenderer.getRenderWindow().getViews()[0].getSize()]")
+            with vtkw.VtkView(ref="view", background=("bg", [0.2, 0.2, 0.2]), style="width:100%;height:100%",
+                              interactor_events=("events", ["LeftButtonPress"]),
+                              LeftButtonPress=(on_press, press)) as view:
+                with vtkw.VtkGlyphRepresentation(
+                        mapper=("{scaleArray: 'radius', scaleMode: 1, scaleFactor: 1, scalarVisibility: true,"
+                                " colorMode: 2}",)):
+                    vtkw.VtkAlgorithm(vtk_class="vtkSphereSource", port=1,
+                                      state=("{radius: 1, phiResolution: sph_res[0], thetaResolution: sph_res[1]}",))
+                    with vtkw.VtkPolyData("spheres", port=0, points=("sph_points",), connectivity="points"):
+                        with vtkw.VtkPointData():
+                            vtkw.VtkDataArray(registration="setScalars", name="rgb", type="Uint8Array",
+                                              number_of_components=("3",), values=("sph_rgb",))
+                            vtkw.VtkDataArray(registration="addArray", name="radius", values=("sph_radius",))
+                with vtkw.VtkGeometryRepresentation(mapper=("{colorMode: 2}",)):
+                    with vtkw.VtkPolyData("triangles", points=("tri_points",), polys=("tri_polys",)):
+                        with vtkw.VtkCellData():
+                            vtkw.VtkDataArray(registration="setScalars", name="rgb", type="Uint8Array",
+                                              number_of_components=("3",), values=("tri_rgb",))
+                with vtkw.VtkGeometryRepresentation(mapper=("{colorMode: 2}",), property=("{lineWidth: 2}",)):
+                    with vtkw.VtkPolyData("lines", points=("line_points",), lines=("line_cells",)):
+                        with vtkw.VtkCellData():
+                            vtkw.VtkDataArray(registration="setScalars", name="rgb", type="Uint8Array",
+                                              number_of_components=("3",), values=("line_rgb",))
+        with html.Div(style=style):
+            html.Div("#{{ iter }}  t = {{ sim_time }} s  ({{ n_spheres }} spheres)", id="clock")
+            with html.Div(style="margin:6px 0"):
+                html.Button("Play", id="play", click=ctrl.play)
+                html.Button("Pause", id="pause", click=ctrl.pause)
+                html.Button("Step", id="step", click=ctrl.step)
+                html.Input(type="number", v_model_number=("run_n",), style="width:70px", id="run_n")
+                html.Button("Run N", id="run", click=(ctrl.run_n, "[run_n]"))
+            with html.Div():
+                html.Span("O.dt = {{ dt }} s ")
+                html.Input(v_model=("dt_text",), style="width:90px", id="dt_text", placeholder="new dt")
+                html.Button("Set", id="set_dt", click=(ctrl.set_dt, "[dt_text]"))
+                html.Input(type="checkbox", id="dyn_dt", checked=("dyn_dt",), disabled=("!dyn_dt_available",),
+                           change=(ctrl.set_dyn_dt, "[$event.target.checked]"))
+                html.Span("O.dynDt ")
+                html.Button("Reload", id="reload", click=ctrl.reload)
+            html.Div("{{ running ? 'running' : 'paused' }}  {{ speed }}  {{ message }}", id="status")
+            with html.Div(style="margin:6px 0"):
+                html.Span("Colour by ")
+                with html.Select(v_model=("field",), id="field"):
+                    html.Option("{{ f }}", v_for="f in fields", value=("f",))
+                html.Button("Fit", id="fit", click=ctrl.reset_camera)
+                html.Button("YADE camera", id="yade_camera", click=ctrl.yade_camera)
+            html.Div(v_show="field != 'color'", id="colorbar",
+                     style=("'height:12px;background:linear-gradient(to right,' + bar_stops.join(',') + ')'",))
+            html.Div("{{ bar_lo }} .. {{ bar_hi }}", v_show="field != 'color'", id="bar_range")
+            html.H4("Inspector", style="margin:8px 0 2px")
+            html.Pre("{{ picked || 'click a body' }}", id="picked", style="white-space:pre-wrap;margin:0")
+            html.H4("Engines", style="margin:8px 0 2px")
+            with html.Div(id="engines"):
+                with html.Details(v_for="(e, k) in engines", key="k"):
+                    html.Summary("{{ e.name }}")
+                    html.Pre("{{ e.attrs }}", style="white-space:pre-wrap;margin:0 0 0 12px;font-size:11px")
+            html.H4("Plots ({{ plot_rows }} points)", id="plot_title", v_show="plot_png", style="margin:8px 0 2px")
+            html.Img(src=("plot_png",), v_show="plot_png", id="plot", style="width:100%")
+    session.view_widget = view
+    return server
+
+
+async def _pump(session: Session, server) -> None:
+    """Publish new frames, the controller's state and the live plots, every ``session.interval`` seconds."""
+    state = server.state
+    while not session.closing:
+        await asyncio.sleep(session.interval)
+        t0 = time.perf_counter()
+        try:
+            update = session.poll()
+        except Exception as e:  # noqa: BLE001 - shown in the page; the view goes on
+            update = {"message": f"view: {type(e).__name__}: {e}"}
+        if update:
+            with state:   # sends the changes to the page
+                state.update(update)
+        if "sph_points" in update:   # a frame was published
+            session.spent(time.perf_counter() - t0, publish=True)
+
+
+def serve(session: Session, host: str, token: str) -> int:
+    """Start the server in a daemon thread; return the port once it listens."""
+    server = build_server(session, token)
+    started = threading.Event()
+
+    @server.controller.add("on_server_ready")
+    def _ready(**_):
+        started.set()
+
+    def run():
+        asyncio.set_event_loop(asyncio.new_event_loop())
+        server.start(port=0, host=host, thread=True, open_browser=False, show_connection_info=False,
+                     timeout=0, disable_logging=True)
+
+    threading.Thread(target=run, name="granum-view", daemon=True).start()
+    if not started.wait(60):
+        raise RuntimeError("granum view: the web server did not start within 60 s")
+    session.server = server
+    return server.port
+
+
+def png_of_figures(figs) -> str:
+    """A data: URL of the first matplotlib figure as PNG (the page's live plot)."""
+    buf = io.BytesIO()
+    figs[0].savefig(buf, format="png", dpi=70)
+    return "data:image/png;base64," + base64.b64encode(buf.getvalue()).decode("ascii")
