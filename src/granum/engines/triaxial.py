@@ -47,15 +47,16 @@ def _multiplier(name: str):
     return convert
 
 
-def _state(slot: int, doc: str, writable: bool = False):
-    """A float of the controller's state array exposed as an attribute (``doc``: "name: description")."""
+def _state(slot: int, doc: str, writable: bool = False, array: str = "_out"):
+    """A float of an engine's state array (the attribute ``array``, by default the controller's) exposed as an
+    attribute (``doc``: "name: description")."""
     convert = to_float(doc.split(":")[0], allow_nan=False)
 
     def get(self):
-        return float(self._out[slot])
+        return float(getattr(self, array)[slot])
 
     def set_(self, value):
-        self._out[slot] = convert(self, value)
+        getattr(self, array)[slot] = convert(self, value)
 
     return property(get, set_ if writable else None, doc=doc)
 
@@ -129,12 +130,12 @@ class TriaxialStressController(GlobalEngine):
     @property
     def updatePorosity(self) -> bool:
         """Set True to recompute the spheres' volume at the next step (bodies erased...); reads False after."""
-        return not self._out[k.T_SPHERES_VOLUME] == self._out[k.T_SPHERES_VOLUME]
+        return bool(self._out[k.T_SPHERES_VOLUME] < 0)
 
     @updatePorosity.setter
     def updatePorosity(self, on) -> None:
         if on:
-            self._out[k.T_SPHERES_VOLUME] = math.nan
+            self._out[k.T_SPHERES_VOLUME] = -1.0
 
     @property
     def strain(self) -> Vector3:
@@ -159,7 +160,8 @@ class TriaxialStressController(GlobalEngine):
     def wall_ids(self) -> list[int]:
         return [getattr(self, f"wall_{w}_id") for w in WALLS]
 
-    def params(self, scene, engines) -> k.TriaxialParams:
+    def check_walls(self, scene) -> list[int]:
+        """The six wall ids, checked: live boxes, all different."""
         name = type(self).__name__
         ids = self.wall_ids()
         b = scene.bodies
@@ -171,13 +173,24 @@ class TriaxialStressController(GlobalEngine):
                                    "utils.aabbWalls first, or set the wall_*_id")
         if len(set(ids)) != 6:
             raise RuntimeError(f"{name}: the six wall ids must differ, got {ids}")
+        return ids
+
+    def activated(self) -> np.ndarray:
+        """wall_*_activated in the order of :data:`WALLS`, (6,) uint8."""
+        return np.array([getattr(self, f"wall_{w}_activated") for w in WALLS], np.uint8)
+
+    def params(self, scene, engines) -> k.TriaxialParams:
         goal = np.array([self.goal1, self.goal2, self.goal3])
         if self.internalCompaction and not goal.mean() < 0:
-            raise ValueError(f"{name}: internalCompaction grows the spheres to a compressive mean goal: the mean of "
-                             f"goal1..3 must be negative (compression), got {float(goal.mean())!r}")
+            raise ValueError(f"{type(self).__name__}: internalCompaction grows the spheres to a compressive mean "
+                             f"goal: the mean of goal1..3 must be negative (compression), got {float(goal.mean())!r}")
+        return self.servo_params(scene, goal, self.activated())
+
+    def servo_params(self, scene, goal: np.ndarray, activated: np.ndarray) -> k.TriaxialParams:
+        """The servo's parameters with the goals ``goal`` (3,) and the walls' activation ``activated`` (6,)
+        (arrays an engine built on the controller keeps and its stage may change)."""
         return k.TriaxialParams(
-            walls=np.array(ids, np.int64), activated=np.array([getattr(self, f"wall_{w}_activated") for w in WALLS],
-                                                              np.uint8),
+            walls=np.array(self.check_walls(scene), np.int64), activated=activated,
             goal=goal, stress_mask=int(self.stressMask), internal=bool(self.internalCompaction),
             final_max_multiplier=float(self.finalMaxMultiplier), max_vel=float(self.max_vel),
             stress_damping=float(self.stressDamping), strain_damping=float(self.strainDamping),

@@ -52,7 +52,7 @@ T_MEAN = 33           # mean stress [Pa]
 T_VOL_STRAIN = 34     # volumetric strain [-]
 T_POROSITY = 35       # porosity of the box [-]
 T_BOX_VOLUME = 36     # width * height * depth [m^3]
-T_SPHERES_VOLUME = 37  # volume of the spheres [m^3]; NaN: to be computed
+T_SPHERES_VOLUME = 37  # volume of the spheres [m^3]; NaN (never computed) or -1 (updatePorosity): to be computed
 T_MAX_MULT = 38       # maxMultiplier (becomes finalMaxMultiplier) [-]
 T_PREV_MULT = 39      # the last radius multiplier [-]
 T_PREV_STRESS = 40    # the mean stress it was computed from [Pa]
@@ -164,10 +164,17 @@ def spend_budgets(S, C, grown):
 @jit
 def triaxial_stage(S, C, P):
     """Engine stage of TriaxialStressController (see the module docstring); ``P``: :class:`TriaxialParams`."""
+    triaxial_control(S, C, P, P.internal)
+
+
+@jit
+def triaxial_control(S, C, P, internal):
+    """One step of the controller with ``P``'s walls and goals; ``internal``: grow the spheres instead of moving
+    the walls (the engines built on the controller switch it during a run)."""
     out, walls, goal = P.out, P.walls, P.goal
     it = S.iscal[SI_ITER]
     dt = S.scal[S_DT]
-    if not out[T_SPHERES_VOLUME] == out[T_SPHERES_VOLUME]:
+    if not out[T_SPHERES_VOLUME] >= 0.0:
         out[T_SPHERES_VOLUME] = spheres_volume(S)
     box_sizes(S, walls, P.thickness, out)
     for a in range(3):
@@ -190,7 +197,7 @@ def triaxial_stage(S, C, P):
             build_csr(C, S.iscal[SI_NBODIES])
         for w in range(6):
             out[T_STIFF + w] = wall_stiffness(C, walls[w])
-    if P.internal:
+    if internal:
         for w in range(6):
             out[T_TRANSLATION + w] = 0.0
             for k in range(3):

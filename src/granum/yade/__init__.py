@@ -23,6 +23,7 @@ import numpy as _numpy
 from future import standard_library as _standard_library
 
 from granum import idem
+from granum.engines import triaxial_engines as _triaxial_engines
 from granum.engines.base import Engine, GlobalEngine, PartialEngine, PeriodicEngine
 from granum.engines.controllers import PeriIsoCompressor, PeriTriaxController
 from granum.engines.cpm import CpmStateUpdater
@@ -67,8 +68,10 @@ from granum.engines.pipeline import (
 )
 from granum.engines.pyrunner import PyRunner
 from granum.engines.runner import SimulationError
+from granum.engines.strainer import UniaxialStrainer
 from granum.engines.timestepper import GlobalStiffnessTimeStepper, TimeStepper
 from granum.engines.triaxial import TriaxialStressController
+from granum.engines.triaxial_engines import ThreeDTriaxialEngine, TriaxialCompressionEngine
 from granum.idem import IDEMSolver
 from granum.mathtypes import Matrix3, Quaternion, Vector2, Vector2i, Vector3, Vector3i, Vector6, Vector6i
 from granum.physics.matchmaker import MatchMaker
@@ -100,6 +103,7 @@ from granum.yade.interactions import PHYS_VIEWS as _PHYSS
 from granum.yade.interactions import Interaction
 from granum.yade.materials import CLASSES as _MATERIALS
 from granum.yade.omega import O, Omega
+from granum.yade.preprocessors import FileGenerator, TriaxialTest
 from granum.yade.recorders import Recorder, TriaxialStateRecorder
 from granum.yade.snapshot import SnapshotEngine
 from granum.yade.utils import *  # noqa: F403
@@ -141,7 +145,9 @@ _namespace.update(
     BoundDispatcher=BoundDispatcher, IGeomDispatcher=IGeomDispatcher, IPhysDispatcher=IPhysDispatcher,
     LawDispatcher=LawDispatcher, TimeStepper=TimeStepper, GlobalStiffnessTimeStepper=GlobalStiffnessTimeStepper,
     TriaxialStressController=TriaxialStressController, Recorder=Recorder,
-    TriaxialStateRecorder=TriaxialStateRecorder,
+    TriaxialStateRecorder=TriaxialStateRecorder, TriaxialCompressionEngine=TriaxialCompressionEngine,
+    ThreeDTriaxialEngine=ThreeDTriaxialEngine, UniaxialStrainer=UniaxialStrainer, FileGenerator=FileGenerator,
+    TriaxialTest=TriaxialTest,
     ForceEngine=ForceEngine, TranslationEngine=TranslationEngine, RotationEngine=RotationEngine,
     KinematicEngine=KinematicEngine, HelixEngine=HelixEngine, CombinedKinematicEngine=CombinedKinematicEngine,
     DomainLimiter=DomainLimiter, MatchMaker=MatchMaker,
@@ -159,6 +165,7 @@ _namespace.update(
     utils=utils, geom=geom, pack=pack, plot=plot, qt=qt, timing=timing, ymport=ymport, export=export,
     gts=gts,  # PyGTS: YADE's scripts find it without importing
 )
+_triaxial_engines.scene_source = lambda: O._scene  # setContactProperties acts on O's scene
 #: YADE's command-line options as its launcher parses them (``opts.threads``...); granum's launcher fills in
 #: ``threads``, ``script`` and ``args``
 opts = _argparse.Namespace(version=False, threads=None, cores=None, updateScripts=None, nice=None, exitAfter=True,

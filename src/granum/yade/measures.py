@@ -20,7 +20,7 @@ from granum.yade.utils import _live_contacts, _not_member, _spheres, aabbExtrema
 __all__ = [
     "momentum", "angularMomentum", "aabbDim", "fractionalBox", "perpendicularArea", "sumFacetNormalForces",
     "forcesOnPlane", "forcesOnCoordPlane", "maxOverlapRatio", "psd", "sumTorques", "numIntrsOfEachBody",
-    "getBodyIdsContacts", "negPosExtremeIds", "getSpheresVolume2D", "totalForceInVolume",
+    "getBodyIdsContacts", "negPosExtremeIds", "getSpheresVolume2D", "totalForceInVolume", "voxelPorosity",
     "stressTensorOfPeriodicCell", "flipCell",
 ]
 
@@ -220,3 +220,28 @@ def flipCell():
     warnings.warn("flipCell from utils module is deprecated, use O.cell.flipCell() or O.cell.flipFlippable=True "
                   "instead", DeprecationWarning, stacklevel=2)
     return O.cell.flipCell()
+
+
+def voxelPorosity(resolution=200, start=(0.0, 0.0, 0.0), end=(0.0, 0.0, 0.0)) -> float:
+    """Porosity of the box ``start``..``end`` [-]: the fraction of the resolution³ grid points
+    start + (i, j, k)·(end − start)/resolution (i, j, k in 0..resolution−1) lying strictly inside no sphere
+    (YADE's voxel count, measured on its results); parts of spheres outside the box do not count."""
+    res = int(resolution)
+    if res < 50:
+        raise ValueError("utils.voxelPorosity: it doesn't make sense to calculate porosity with voxel resolution "
+                         f"below 50 (got {res}).")
+    lo, hi = as_vec3(start), as_vec3(end)
+    if (lo == hi).all():
+        raise ValueError("utils.voxelPorosity: cannot calculate porosity when start==end of the volume box.")
+    h = (hi - lo) / res
+    solid = np.zeros((res, res, res), bool)
+    ids, radii = _spheres()
+    for c, r in zip(O._scene.bodies.pos[ids], radii, strict=True):
+        first = np.maximum(np.ceil((c - r - lo) / h), 0).astype(int)
+        last = np.minimum(np.floor((c + r - lo) / h), res - 1).astype(int)
+        if (last < first).any():
+            continue
+        axes = [lo[a] + h[a] * np.arange(first[a], last[a] + 1) - c[a] for a in range(3)]
+        d2 = axes[0][:, None, None] ** 2 + axes[1][None, :, None] ** 2 + axes[2][None, None, :] ** 2
+        solid[first[0]:last[0] + 1, first[1]:last[1] + 1, first[2]:last[2] + 1] |= d2 < r * r
+    return float(1.0 - solid.sum() / res ** 3)
