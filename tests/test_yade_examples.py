@@ -24,7 +24,7 @@ def test_example_agrees_with_yade(example):
         ref = json.load(f)
     got = harness.run(example, "granum")
     assert got["returncode"] == 0, got["output"]
-    assert got["iter"] == ref["iter"]
+    assert got["iter"] == ref["iter"] or not example.same_iter
     bad = [row for row in harness.compare(example, got, ref) if row[3]]
     assert not bad, "\n".join(f"{name}: granum {g}, YADE {r}: {why}" for name, g, r, why in bad)
 

@@ -6,7 +6,8 @@ logarithmic strain eps_k = ln F_kk. Per step:
 
 * the stress is the Love-Weber tensor (1/V) sum_c f_c (x) l_c (compression
   negative) and the stiffness modulus along k is K_k = (1/V) sum_c kn (n_k l_k)^2,
-  the stress change per unit strain of affine contacts;
+  the stress change per unit strain of affine contacts, both every step (the unbalanced
+  force every ``globUpdate`` steps);
 * strain axis: the rate that reaches the goal in one step, limited by maxStrainRate;
 * stress axis, ``dynCell``: the strain rate obeys d L_kk / dt = (goal - sigma_kk) / M with
   Cundall's damping growDamping on that acceleration (YADE 2023.02a's rule, measured step by
@@ -60,8 +61,9 @@ class PeriTriaxParams(NamedTuple):
 
 
 @jit
-def contact_stress(S, C, out):
-    """Write the Love-Weber stress tensor, the stiffness moduli and the unbalanced force into ``out``."""
+def contact_stress(S, C, out, unbalanced=True):
+    """Write the Love-Weber stress tensor, the stiffness moduli and (with ``unbalanced``) the unbalanced force
+    into ``out``."""
     h = S.cell_hsize
     vol = det3(h)
     sig = np.zeros((3, 3))
@@ -89,7 +91,8 @@ def contact_stress(S, C, out):
         out[O_STRESS + a] = sig[a, a] / vol
         for b in range(3):
             out[O_TENSOR + 3 * a + b] = sig[a, b] / vol
-    out[O_UNBALANCED] = unbalanced_force(S, fsum, nc)
+    if unbalanced:
+        out[O_UNBALANCED] = unbalanced_force(S, fsum, nc)
     return vol
 
 
@@ -115,8 +118,14 @@ def peri_triax_stage(S, C, P):
     """
     goal, max_rate, grow_damp, out = P.goal, P.max_rate, P.grow_damping, P.out
     dt = S.scal[S_DT]
-    if P.glob_update <= 1 or S.iscal[SI_ITER] % P.glob_update == 0 or not out[O_UNBALANCED] == out[O_UNBALANCED]:
-        contact_stress(S, C, out)
+    # the stress every step, the unbalanced force (a loop over the bodies) every globUpdate steps: YADE
+    # 2023.02a's controller reads the stress of the current step (measured: its stress equals getStress() after
+    # every step, with the default globUpdate 5)
+    contact_stress(S, C, out, P.glob_update <= 1 or S.iscal[SI_ITER] % P.glob_update == 0
+                   or not out[O_UNBALANCED] == out[O_UNBALANCED])
+    if P.dyn_cell:  # the stiffness only serves the affine servo: YADE reports 0 with dynCell (measured)
+        for k in range(3):
+            out[O_STIFF + k] = 0.0
     done = out[O_UNBALANCED] < P.max_unbalanced
     for k in range(3):
         out[O_STRAIN + k] = math.log(S.cell_trsf[k, k])
