@@ -122,9 +122,11 @@ def test_the_contact_pool_stores_only_the_columns_its_laws_use(yade):
                  yade.NewtonIntegrator(gravity=(0, 0, -9.81))]
     O.dt = 1e-6
     O.run(5, True)
-    # the core columns, the energies' place and the visco-elastic damping and elastic shear: none of the
-    # other laws' groups (Mindlin's, L3Geom's, the cohesion's share these columns)
-    assert O._scene.contacts.con_f.shape[1] == NF_CORE + 2 + 2 + 3 < nf() and O.interactions.all()[0].phys.cn > 0
+    # the core columns, the energies' place, the visco-elastic damping and elastic shear, the contact moment
+    # (rolling resistance, 3) and mR, mRtype (2): none of the other laws' groups (Mindlin's, L3Geom's, the
+    # cohesion's share these columns)
+    assert O._scene.contacts.con_f.shape[1] == NF_CORE + 2 + 2 + 3 + 3 + 2 < nf()
+    assert O.interactions.all()[0].phys.cn > 0
 
 
 def test_tracking_energy_does_not_change_the_motion(yade):
