@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import pathlib
+import sys
 
 import pytest
 
@@ -25,6 +26,28 @@ def yade():
 def reference(topic: str) -> dict:
     """Reference data produced by real YADE (see tests/reference/yade/README.md)."""
     return json.loads((REFERENCE / f"{topic}.json").read_text())
+
+
+def granum_reference_run(script: str) -> dict:
+    """What the YADE reference script ``script`` (in tests/reference/yade) records when granum runs it unmodified:
+    its ``_common.dump`` is captured instead of writing the JSON file."""
+    import granum.yade as y
+
+    sys.path.insert(0, str(REFERENCE))
+    import _common
+
+    out: dict = {}
+    saved = _common.dump
+    try:
+        _common.dump = lambda topic, data: out.update(data)
+        ns: dict = {}
+        exec("from granum.yade import *", ns)
+        exec(compile((REFERENCE / script).read_text(), script, "exec"), ns)
+    finally:
+        _common.dump = saved
+        sys.path.remove(str(REFERENCE))
+        y.O.reset()
+    return out
 
 
 def frict_engines(y, gravity=(0, 0, 0), damping=0.0, bounds=None, geoms=None):

@@ -17,30 +17,15 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import REFERENCE, reference
+from conftest import granum_reference_run, reference
 
 N = np.array([0.6, 0.3, 0.74]) / np.linalg.norm([0.6, 0.3, 0.74])
 
 
 @pytest.fixture(scope="module")
 def granum_runs():
-    """The reference script's records, produced by granum (its ``dump`` captured instead of written)."""
-    import granum.yade as y
-
-    sys.path.insert(0, str(REFERENCE))
-    try:
-        import _common
-        out = {}
-        saved = _common.dump
-        _common.dump = lambda topic, data: out.update(data)
-        ns: dict = {}
-        exec("from granum.yade import *", ns)
-        exec(compile((REFERENCE / "cohfrict.py").read_text(), "cohfrict.py", "exec"), ns)
-    finally:
-        _common.dump = saved
-        sys.path.remove(str(REFERENCE))
-        y.O.reset()
-    return out
+    """The reference script's records, produced by granum."""
+    return granum_reference_run("cohfrict.py")
 
 
 RUNS = sorted(k for k in reference("cohfrict") if k != "defaults")

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import REFERENCE, reference
+from conftest import granum_reference_run, reference
 
 RUNS = ("tension", "tension_linear", "linear_default", "shear", "compression", "prestress", "noncohesive",
         "neverDamage", "frict_cpm")
@@ -30,23 +30,8 @@ COMPANION = {"epsT": "epsN", "sigmaT": "sigmaN", "epsTPl": "epsN", "Fs": "f", "t
 
 @pytest.fixture(scope="module")
 def granum_runs():
-    """The reference script's records, produced by granum (its ``dump`` captured instead of written)."""
-    import granum.yade as y
-
-    sys.path.insert(0, str(REFERENCE))
-    try:
-        import _common
-        out = {}
-        saved = _common.dump
-        _common.dump = lambda topic, data: out.update(data)
-        ns: dict = {}
-        exec("from granum.yade import *", ns)
-        exec(compile((REFERENCE / "cpm.py").read_text(), "cpm.py", "exec"), ns)
-    finally:
-        _common.dump = saved
-        sys.path.remove(str(REFERENCE))
-        y.O.reset()
-    return out
+    """The reference script's records, produced by granum."""
+    return granum_reference_run("cpm.py")
 
 
 def _flat(record: dict) -> dict:

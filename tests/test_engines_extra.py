@@ -7,28 +7,13 @@ import sys
 
 import numpy as np
 import pytest
-from conftest import REFERENCE, reference
-
-from granum.yade import O
+from conftest import REFERENCE, granum_reference_run, reference
 
 
 @pytest.fixture(scope="module")
 def granum_runs():
-    """The reference script's records, produced by granum (its ``dump`` captured instead of written)."""
-    sys.path.insert(0, str(REFERENCE))
-    try:
-        import _common
-        out = {}
-        saved = _common.dump
-        _common.dump = lambda topic, data: out.update(data)
-        ns: dict = {}
-        exec("from granum.yade import *", ns)
-        exec(compile((REFERENCE / "engines_extra.py").read_text(), "engines_extra.py", "exec"), ns)
-    finally:
-        _common.dump = saved
-        sys.path.remove(str(REFERENCE))
-        O.reset()
-    return out
+    """The reference script's records, produced by granum."""
+    return granum_reference_run("engines_extra.py")
 
 
 RUNS = sorted(reference("engines_extra"))
