@@ -87,7 +87,7 @@ def phys_frict(c, id1, id2, S, C, prm):
     as the ratio k_s/k_n. ``prm`` is not read: other physics functors (and users' laws) call this.
     """
     f = C.con_f
-    r1, r2 = frict_radii(c, C)
+    r1, r2 = reference_radii(c, C)
     m1 = S.mat[S.material[id1]]
     m2 = S.mat[S.material[id2]]
     e1 = m1[materials.M_YOUNG]
@@ -98,8 +98,9 @@ def phys_frict(c, id1, id2, S, C, prm):
 
 
 @jit
-def frict_radii(c, C):
-    """The reference radii ``(r1, r2)`` of contact ``c`` [m], a non-positive one replaced by the other."""
+def reference_radii(c, C):
+    """The reference radii ``(R1, R2)`` of contact ``c`` [m], a non-positive one (a facet's, a box's) replaced
+    by the other."""
     r1 = C.con_f[c, F_R1]
     r2 = C.con_f[c, F_R2]
     if r1 <= 0.0:
@@ -116,7 +117,7 @@ def phys_frict_ip2(c, id1, id2, S, C, prm):
     E_i r_i, E_i r_i nu_i and phi_i (as YADE)."""
     phys_frict(c, id1, id2, S, C, prm)
     f = C.con_f
-    r1, r2 = frict_radii(c, C)
+    r1, r2 = reference_radii(c, C)
     row1 = S.material[id1]
     row2 = S.material[id2]
     m1 = S.mat[row1]

@@ -56,14 +56,12 @@ from granum.core.contacts import (
     F_MOMENT,
     F_NORMAL,
     F_PEN,
-    F_R1,
-    F_R2,
     F_TANPHI,
     register_history,
     register_totals,
 )
 from granum.physics import materials, registry
-from granum.physics.frict import FRICTION_ANGLE, M_FRICTION, pair_friction
+from granum.physics.frict import FRICTION_ANGLE, M_FRICTION, pair_friction, reference_radii
 from granum.physics.l3geom import load_row, store_row
 from granum.physics.matchmaker import given, pair_value, refuse_pair
 from granum.physics.materials import NON_NEGATIVE
@@ -246,19 +244,6 @@ def reduced_mass(id1, id2, S):
     if fixed2 and not fixed1:
         return m1
     return m1 * m2 / (m1 + m2)
-
-
-@jit
-def reference_radii(c, C):
-    """The reference radii ``(R1, R2)`` of contact ``c`` [m], a non-positive one (a facet's, a box's) replaced
-    by the other."""
-    r1 = C.con_f[c, F_R1]
-    r2 = C.con_f[c, F_R2]
-    if r1 <= 0.0:
-        r1 = r2
-    if r2 <= 0.0:
-        r2 = r1
-    return r1, r2
 
 
 @jit
