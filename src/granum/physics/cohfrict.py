@@ -82,7 +82,7 @@ from granum.core.contacts import (
     register_history,
 )
 from granum.physics import materials, registry
-from granum.physics.frict import FRICTION_ANGLE, M_FRICTION, pair_friction, series_stiffness
+from granum.physics.frict import FRICT_ANGLE_PARAM, M_FRICTION, pair_friction, series_stiffness
 from granum.physics.l3geom import load_row, store_row
 from granum.physics.matchmaker import given, pair_value, refuse_pair
 from granum.physics.materials import NON_NEGATIVE
@@ -215,8 +215,7 @@ IP2 = Functor(
                                    "min of the materials') [Pa]", valid=_STRENGTH, matchmaker="bare"),
      Param("shearCohesion", None, "Per-material-pair shear strength (MatchMaker, supplied no values; None: the min "
                                   "of the materials') [Pa]", valid=_STRENGTH, matchmaker="bare"),
-     Param("frictAngle", None, "Per-material-pair friction angle (MatchMaker of the materials' frictionAngle; "
-                               "None: the min of the two) [rad]", valid=FRICTION_ANGLE, matchmaker="values")),
+     FRICT_ANGLE_PARAM),
     "", HISTORY, python=f"{__name__}:CohesionNow")
 IP2_COHESION_NOW = IP2.slot("setCohesionNow")
 IP2_ON_NEW = IP2.slot("setCohesionOnNewContacts")

@@ -194,6 +194,9 @@ def law_cundall_strack(c, id1, id2, S, C, prm):
 _STIFFNESS = Range(0.0, why="a negative stiffness pushes along the displacement")
 #: a per-pair friction angle given by a MatchMaker [rad]
 FRICTION_ANGLE = Range(0.0, math.pi / 2, why="the Coulomb limit |Fn| tan(frictAngle) must not be negative")
+#: the Ip2s' ``frictAngle``: a MatchMaker over the two materials' frictionAngle (FrictPhys, CohFrictPhys, MindlinPhys)
+FRICT_ANGLE_PARAM = Param("frictAngle", None, "Per-material-pair friction angle (MatchMaker of the materials' "
+                          "frictionAngle; None: the min of the two) [rad]", valid=FRICTION_ANGLE, matchmaker="values")
 IP2 = Functor(
     "Ip2_FrictMat_FrictMat_FrictPhys", "phys", ("FrictMat", "FrictMat"), "FrictPhys",
     f"{__name__}:phys_frict_ip2",
@@ -201,8 +204,7 @@ IP2 = Functor(
            valid=_STIFFNESS, matchmaker="values"),
      Param("ks", None, "Per-material-pair shear stiffness (MatchMaker of E_i r_i nu_i; None: the materials') [N/m]",
            valid=_STIFFNESS, matchmaker="values"),
-     Param("frictAngle", None, "Per-material-pair friction angle (MatchMaker of the materials' frictionAngle; "
-                               "None: the min of the two) [rad]", valid=FRICTION_ANGLE, matchmaker="values")),
+     FRICT_ANGLE_PARAM),
     phys_frict.py_func.__doc__ + phys_frict_ip2.py_func.__doc__)
 registry.register_functor(IP2)
 #: places of the Ip2's MatchMakers in its row ``prm``

@@ -61,7 +61,7 @@ from granum.core.contacts import (
     register_totals,
 )
 from granum.physics import materials, registry
-from granum.physics.frict import FRICTION_ANGLE, M_FRICTION, pair_friction, reference_radii
+from granum.physics.frict import FRICT_ANGLE_PARAM, M_FRICTION, pair_friction, reference_radii
 from granum.physics.l3geom import load_row, store_row
 from granum.physics.matchmaker import given, pair_value, refuse_pair
 from granum.physics.materials import NON_NEGATIVE
@@ -166,8 +166,7 @@ IP2 = Functor(
                           "given, 0) [-]", valid=_RATIO, matchmaker="bare"),
      Param("betas", None, "Shear viscous damping ratio (MatchMaker, supplied no values; None: not given, then "
                           "betan) [-]", valid=_RATIO, matchmaker="bare"),
-     Param("frictAngle", None, "Per-material-pair friction angle (MatchMaker of the materials' frictionAngle; "
-                               "None: the min of the two) [rad]", valid=FRICTION_ANGLE, matchmaker="values")),
+     FRICT_ANGLE_PARAM),
     "", HISTORY, python=f"{__name__}:MindlinIp2")
 GAMMA = IP2.slot("gamma")
 ETA = IP2.slot("eta")
