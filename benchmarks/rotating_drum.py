@@ -1,13 +1,12 @@
 # Benchmark: a rotating drum.
 #
 # About BENCH_N spheres (r = 0.01, on a simple cubic lattice of spacing 2r(1 - 1e-3), so that neighbours touch,
-# filling the lower half of the drum up to the wall) in a drum made by geom.facetCylinder (radius R, length 0.3
-# along y, 48 segments, closed ends) turned by a RotationEngine about its axis (1 rad/s, rotateAroundZero).
+# filling the lower half of the drum up to the wall) in a drum read from an STL file by ymport.stl (a closed
+# cylinder of radius R, length 0.3 along y, 48 segments; the script writes the file, ASCII, so that granum and YADE
+# read the same mesh), turned by a RotationEngine about its axis (1 rad/s, rotateAroundZero).
 # FrictMat (E=1e7, nu=0.3, 30 deg, 2600 kg/m^3), Cundall-Strack, NewtonIntegrator(damping=0.2, gravity -z),
 # O.dt = 0.5*PWaveTimeStep(). R is chosen so that the half-lattice holds about BENCH_N spheres (at 5,000:
 # R = 0.17 m); they are in contact from the first step and the drum drags them round.
-# The issue asks for ~10,000 spheres in an STL drum; the STL reader (ymport.stl) comes from another branch,
-# so the drum here is geom.facetCylinder.
 # BENCH_EXTRA=1 also runs the engines of issue #21 that make sense here: the drum's rotation combined with a
 # HarmonicMotionEngine shaking it vertically (RotationEngine + HarmonicMotionEngine), and a LinearDragEngine
 # (nu=0.05) on the spheres.
@@ -21,9 +20,10 @@
 import math
 import os
 import sys
+import tempfile
 import time
 
-from yade import geom
+from yade import ymport
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(sys.argv[0])))
 from _bench import env_int, measure  # noqa: E402
@@ -45,8 +45,27 @@ spheres = [sphere((i * s, (j - (ny - 1) / 2) * s, k * s), r, material=mat)
            for k in range(-m, 1) for j in range(ny) for i in range(-m, m + 1)
            if math.hypot(i * s, k * s) <= inner]
 sphereIds = O.bodies.append(spheres)
-drum = O.bodies.append(geom.facetCylinder((0, 0, 0), R, length, orientation=Quaternion((1, 0, 0), math.pi / 2),
-                                          segmentsNumber=48, wallMask=7, material=mat))
+
+
+def drum_triangles(radius, half_length, segments):
+    """The closed cylinder about y: two triangles per side segment and a fan per end, as vertex triples."""
+    rim = [(radius * math.cos(2 * math.pi * k / segments), radius * math.sin(2 * math.pi * k / segments))
+           for k in range(segments + 1)]
+    for (x0, z0), (x1, z1) in zip(rim[:-1], rim[1:], strict=True):
+        a, b = (x0, -half_length, z0), (x1, -half_length, z1)
+        c, d = (x1, half_length, z1), (x0, half_length, z0)
+        yield from ((a, b, c), (a, c, d), ((0, -half_length, 0), b, a), ((0, half_length, 0), d, c))
+
+
+with tempfile.NamedTemporaryFile('w', suffix='.stl', delete=False) as stl_file:
+    stl_file.write('solid drum\n')
+    for triangle in drum_triangles(R, length / 2, 48):
+        stl_file.write('facet normal 0 0 0\nouter loop\n')
+        stl_file.writelines(f'vertex {x!r} {y!r} {z!r}\n' for x, y, z in triangle)
+        stl_file.write('endloop\nendfacet\n')
+    stl_file.write('endsolid drum\n')
+drum = O.bodies.append(ymport.stl(stl_file.name, material=mat))
+os.unlink(stl_file.name)
 
 turn = RotationEngine(ids=drum, rotationAxis=(0, 1, 0), angularVelocity=1.0, rotateAroundZero=True,
                       zeroPoint=(0, 0, 0))

@@ -207,7 +207,25 @@ def build_escaped(yade, seed):
     add_spheres(yade, [(2 ** 21 - 1,) * 3], [0.5])
 
 
-BUILDERS = {"dense": build_dense, "sparse": build_sparse, "lattice": build_lattice, "outliers": build_outliers,
+def build_mesh_first(yade, seed):
+    """A drum of facets appended before the spheres (the facets have the lower ids), spheres inside and across
+    its wall, facets wholly outside the spheres' grid (their cells are clamped) and one facet spanning a
+    hundred times the drum (too many cells: tested against all bodies)."""
+    rng = np.random.default_rng(seed)
+    O = yade.O
+    O.bodies.append(yade.geom.facetCylinder((0, 0, 0), 0.2, 0.3, segmentsNumber=24, wallMask=7))
+    O.bodies.append([yade.facet([tuple(np.array(c) + 0.15 * unit(rng)) for _ in range(3)])
+                     for c in ((0.6, 0, 0), (0, -0.5, 0.4))])
+    O.bodies.append(yade.facet([(-20, -20, 0.01), (20, -20, 0.02), (0, 20, -0.01)]))
+    n = 1500
+    rho = 0.21 * np.sqrt(rng.random(n))
+    phi = 2 * np.pi * rng.random(n)
+    centers = np.stack([rho * np.cos(phi), rho * np.sin(phi), rng.uniform(-0.16, 0.16, n)], axis=1)
+    add_spheres(yade, centers, 0.008 * (1 + rng.random(n)))
+
+
+BUILDERS = {"dense": build_dense, "mesh_first": build_mesh_first, "sparse": build_sparse,
+            "lattice": build_lattice, "outliers": build_outliers,
             "escaped": build_escaped,
             "parallel": lambda y, s: build_dense(y, s, n=4500)}  # over granum's PARALLEL_THRESHOLD (4096)
 
@@ -224,7 +242,7 @@ STATIC_CASES = [
     ("sparse", 5, None), ("sparse", 6, 0.02), ("sparse", 7, 0.0),
     ("lattice", 0, 0.0), ("lattice", 0, None),
     ("outliers", 8, None), ("escaped", 10, 0.0),
-    ("parallel", 9, None),
+    ("parallel", 9, None), ("mesh_first", 11, None), ("mesh_first", 12, 0.0),
 ]
 
 
@@ -427,6 +445,27 @@ def test_no_contact_is_missed_by_a_turning_facet(yade):
         assert real == (dist < r), f"iter {O.iter}: distance {dist}, interaction real: {real}"
         touched.append(real)
     assert any(touched) and not touched[0]
+
+
+def test_no_contact_is_missed_by_a_sphere_swinging_back(yade):
+    """A sphere swings to and fro above another that creeps towards its path, with a Verlet distance so
+    large that the collider never runs again: a pair's budget is measured from where it was last
+    evaluated, so the sphere coming back over its partner, after an evaluation far from it, is seen in
+    the first step the two overlap."""
+    O = yade.O
+    r, amplitude = 0.01, 0.05
+    below, swinging = O.bodies.append([yade.sphere((0, 0, 0), r, fixed=True), yade.sphere((0, 3 * r, 0), r,
+                                                                                          fixed=True)])
+    O.bodies[below].state.vel = (0, 0.1, 0)  # 1.5 r towards the swinging sphere's path in 1500 steps
+    O.engines = frict_engines(yade)
+    O.engines[1].verletDist = 3 * amplitude
+    O.engines.insert(2, yade.HarmonicMotionEngine(ids=[swinging], A=(amplitude, 0, 0), f=(20, 0, 0)))
+    O.dt = 1e-4
+    check = ContactChecker(yade, [])
+    while O.iter < 1500:
+        check.step()
+    assert int(O._scene.contacts.ctr[C_COLLIDER_RUNS]) == 1
+    assert check.checked >= 100 and check.touching == {below, swinging}
 
 
 # ---- 4. erasing and appending bodies during a run ------------------------------------------

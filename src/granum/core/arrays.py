@@ -20,7 +20,7 @@ from granum.core.shapes import SHAPES
 S_DT = 0           # time step [s]
 S_TIME = 1         # simulated time [s]
 S_VERLET = 2       # Verlet distance of the current bounds [m]
-S_MAX_DISP = 3     # largest displacement since the bounds were computed [m]
+S_PAIR_REF_UNIT = 3  # length unit of the pairs' reference motions ``pair_ref``, set by the collider [m]
 NSCAL = 4
 
 # ---- integer scalars: iscal ------------------------------------------------------

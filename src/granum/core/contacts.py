@@ -15,10 +15,14 @@ potential pairs are never real, so granum keeps them apart:
     Index of the pair's real contact in the pool, or -1.
 ``pair_gap``  (P,) float32
     Motion budget of a pair without contact [m]: while the relative motion of its two
-    bodies since the collider last ran stays below it, they cannot touch and the
+    bodies since the budget was set (from ``pair_ref``) stays below it, they cannot touch and the
     geometry is not evaluated (see :func:`granum.kernels.interaction.detect_block`).
     -inf: evaluate at the next step (new pairs, ended contacts); +inf: never (the pair has
     a contact, or its shapes do not interact).
+``pair_ref``  (P, 3) int16
+    Relative displacement d_a - d_b of the pair's bodies since the collider ran, taken when its budget was
+    set, in units of ``scal[S_PAIR_REF_UNIT]`` (rounded; the rounding is taken from the budget): the motion
+    the budget is compared with is measured from there (see :func:`granum.kernels.interaction.detect_block`).
 ``pair_hit``  (P,) uint8
     Outcome of this step's detection for the pair (``HIT_*`` of the interaction loop).
 ``con_i``, ``con_f``  (K, NI_CORE or NI) int32 and (K, NF) float64
@@ -184,7 +188,8 @@ STATUS_NO_PAIR_VALUE = 6  # an Ip2 functor has no value for the materials of a n
 
 #: Record of the interaction storage passed to kernels (see the module docstring).
 CONTACTS = RecordSpec("ContactArrays", [
-    ("pair_ids", "i4", 2), ("pair_cell", "i4", 2), ("pair_con", "i4", 1), ("pair_gap", "f4", 1), ("pair_hit", "u1", 1),
+    ("pair_ids", "i4", 2), ("pair_cell", "i4", 2), ("pair_con", "i4", 1), ("pair_gap", "f4", 1),
+    ("pair_ref", "i2", 2), ("pair_hit", "u1", 1),
     ("con_i", "i4", 2),
     ("con_f", "f8", 2), ("csr_start", "i4", 1), ("csr_con", "i4", 1), ("ctr", "i8", 1), ("ended", "f8", 1)])
 ContactArrays = CONTACTS.tuple
@@ -202,6 +207,7 @@ def new_contact_arrays(n_bodies: int, pair_capacity: int = 64, contact_capacity:
         pair_cell=np.zeros((pair_capacity, 3), np.int32),
         pair_con=np.full(pair_capacity, -1, np.int32),
         pair_gap=np.full(pair_capacity, -np.inf, np.float32),
+        pair_ref=np.zeros((pair_capacity, 3), np.int16),
         pair_hit=np.zeros(pair_capacity, np.uint8),
         con_i=con_i,
         con_f=np.zeros((contact_capacity, NF_CORE), np.float64),

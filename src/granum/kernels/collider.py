@@ -8,8 +8,10 @@ produces the same set of pairs with a uniform grid instead of sorted lists:
 1. Bounds are computed by the registered bound functions and enlarged by the Verlet
    distance; the position and orientation at that moment are remembered.
 2. Bodies whose bound fits in a grid cell ("small") are binned; each looks for
-   partners with a larger id in the 27 neighbouring cells. Bodies with larger or
-   infinite bounds (facets of a container, walls) are tested against all others.
+   partners with a larger id in the 27 neighbouring cells. Larger bodies whose bound
+   covers few cells (the facets of a drum or a hopper) are listed in each cell it covers,
+   and meet the small bodies there; bodies with infinite or huge bounds (walls) are
+   tested against all others.
 3. Each body's partner list is sorted, so the pair list comes out ordered by
    (id1, id2), deterministically and without a global sort.
 
@@ -29,7 +31,7 @@ from numba.extending import overload
 
 from granum._codegen import import_line, load_module
 from granum._jit import BLOCK, PARALLEL_THRESHOLD, jit, kernel, prange
-from granum.core.arrays import S_VERLET, SI_NBODIES, SI_PERIODIC
+from granum.core.arrays import S_PAIR_REF_UNIT, S_VERLET, SI_NBODIES, SI_PERIODIC
 from granum.core.contacts import (
     C_COLLIDE,
     C_COLLIDER_RUNS,
@@ -196,79 +198,185 @@ def cell_range(key, keys_sorted, dense_start):
     return lower_bound(keys_sorted, key), lower_bound(keys_sorted, key + 1)
 
 
+class BodyGrid(NamedTuple):
+    """The uniform grid of the aperiodic broad phase (:func:`find_pairs`).
+
+    Small bodies (bound no wider than the spacing ``h``) are binned by the cell of their bound's lower corner:
+    ``order`` lists them by cell key, ``keys_sorted`` holds their keys and ``dense_start`` the start of each
+    cell in ``order`` (empty when the cells are too many for a table: binary search then). Large bodies whose
+    bound covers few cells are listed in every cell it covers (``large_order``, ``large_keys``,
+    ``large_dense``, the same layout); the others (walls, infinite or huge bounds) are tested against all
+    bodies (``rest``)."""
+
+    small: np.ndarray          #: whether body i is binned, (nb,) bool
+    cell: np.ndarray           #: cell of a small body's lower corner, (nb, 3) int64 (0 for the others)
+    dims: np.ndarray           #: cells per axis, (3,) int64
+    lo: np.ndarray             #: lower corner of cell (0, 0, 0) [m], (3,)
+    h: float                   #: cell size [m]
+    order: np.ndarray          #: small bodies by cell key, (small,) int32
+    keys_sorted: np.ndarray    #: their keys, (small,) int64
+    dense_start: np.ndarray    #: start of each cell in ``order``, (cells + 1,) int64 or (0,)
+    large: np.ndarray          #: every body with a bound that is not small, in id order, (large,) int32
+    large_order: np.ndarray    #: the binned large bodies, once per cell covered, by cell key then id, int32
+    large_keys: np.ndarray     #: their cell keys, int64
+    large_dense: np.ndarray    #: start of each cell in ``large_order``, (cells + 1,) int64 or (0,)
+    rest: np.ndarray           #: large bodies tested against all bodies, in id order, int32
+
+
 @jit
-def partners_of(i, S, nb, small, cell, dims, order, keys_sorted, dense_start, large, avoid_self, count, start, out):
-    """Partners j > i of body ``i``: counted into ``count[i]`` (``out`` empty) or written from ``start[i]``."""
-    fill = out.shape[0] > 0
+def grid_index(x, lo, h, n):
+    """Cell index along one axis of coordinate ``x`` [m], clamped to 0..n-1 (clamping keeps the cells of
+    two overlapping intervals overlapping)."""
+    v = (x - lo) / h
+    if not v >= 0.0:
+        return 0
+    if v >= n:
+        return n - 1
+    return int(v)
+
+
+@jit
+def cell_span(S, i, lo, h, dims):
+    """Cells covered by body ``i``'s bound in the grid of cell (0, 0, 0) at ``lo`` [m], spacing ``h`` [m] and
+    ``dims`` cells per axis: (first x, y, z, last x, y, z)."""
+    return (grid_index(S.bound_min[i, 0], lo[0], h, dims[0]), grid_index(S.bound_min[i, 1], lo[1], h, dims[1]),
+            grid_index(S.bound_min[i, 2], lo[2], h, dims[2]), grid_index(S.bound_max[i, 0], lo[0], h, dims[0]),
+            grid_index(S.bound_max[i, 1], lo[1], h, dims[1]), grid_index(S.bound_max[i, 2], lo[2], h, dims[2]))
+
+
+@jit
+def add_partner(i, j, n, base, out):
+    """Record partner ``j`` of body ``i`` as the ``n``-th (written when ``out`` is not empty); n + 1."""
+    if out.shape[0] > 0:
+        out[base + n, 0] = i
+        out[base + n, 1] = j
+    return n + 1
+
+
+@jit
+def small_partners(i, S, grid, avoid_self, n, base, out):
+    """Partners j > i of small body ``i``: small bodies in the 27 cells around its cell, binned large bodies
+    in the cells its bound covers (each counted in the first cell both cover), and the ``rest``."""
+    cell, dims = grid.cell, grid.dims
+    for dx in range(-1, 2):
+        cx = cell[i, 0] + dx
+        if cx < 0 or cx >= dims[0]:
+            continue
+        for dy in range(-1, 2):
+            cy = cell[i, 1] + dy
+            if cy < 0 or cy >= dims[1]:
+                continue
+            for dz in range(-1, 2):
+                cz = cell[i, 2] + dz
+                if cz < 0 or cz >= dims[2]:
+                    continue
+                a, b = cell_range((cx * dims[1] + cy) * dims[2] + cz, grid.keys_sorted, grid.dense_start)
+                for t in range(a, b):
+                    j = grid.order[t]
+                    if j > i and overlap(S, i, j) and may_collide(S, i, j, avoid_self):
+                        n = add_partner(i, j, n, base, out)
+    if grid.large_order.shape[0] > 0:
+        x0, y0, z0, x1, y1, z1 = cell_span(S, i, grid.lo, grid.h, grid.dims)
+        for cx in range(x0, x1 + 1):
+            for cy in range(y0, y1 + 1):
+                for cz in range(z0, z1 + 1):
+                    a, b = cell_range((cx * dims[1] + cy) * dims[2] + cz, grid.large_keys, grid.large_dense)
+                    for t in range(a, b):
+                        j = grid.large_order[t]
+                        if j <= i or not overlap(S, i, j):
+                            continue
+                        u0, v0, w0, _, _, _ = cell_span(S, j, grid.lo, grid.h, grid.dims)
+                        if cx == max(x0, u0) and cy == max(y0, v0) and cz == max(z0, w0) and \
+                                may_collide(S, i, j, avoid_self):
+                            n = add_partner(i, j, n, base, out)
+    for j in grid.rest:
+        if j > i and overlap(S, i, j) and may_collide(S, i, j, avoid_self):
+            n = add_partner(i, j, n, base, out)
+    return n
+
+
+@jit
+def binned_large_partners(i, S, grid, avoid_self, n, base, out):
+    """Partners j > i of binned large body ``i``: small bodies binned in the cells its bound covers or just
+    below them (a small bound reaches one cell above its own), and the large bodies."""
+    dims = grid.dims
+    x0, y0, z0, x1, y1, z1 = cell_span(S, i, grid.lo, grid.h, grid.dims)
+    for cx in range(max(x0 - 1, 0), x1 + 1):
+        for cy in range(max(y0 - 1, 0), y1 + 1):
+            for cz in range(max(z0 - 1, 0), z1 + 1):
+                a, b = cell_range((cx * dims[1] + cy) * dims[2] + cz, grid.keys_sorted, grid.dense_start)
+                for t in range(a, b):
+                    j = grid.order[t]
+                    if j > i and overlap(S, i, j) and may_collide(S, i, j, avoid_self):
+                        n = add_partner(i, j, n, base, out)
+    for j in grid.large:
+        if j > i and overlap(S, i, j) and may_collide(S, i, j, avoid_self):
+            n = add_partner(i, j, n, base, out)
+    return n
+
+
+@jit
+def partners_of(i, S, nb, grid, avoid_self, count, start, out):
+    """Partners j > i of body ``i``: counted into ``count[i]`` (``out`` empty) or written from ``start[i]``
+    in increasing j."""
     if not (S.bound_min[i, 0] <= S.bound_max[i, 0]):
         return
-    n = 0
+    fill = out.shape[0] > 0
     base = start[i] if fill else 0
-    if small[i]:
-        for dx in range(-1, 2):
-            cx = cell[i, 0] + dx
-            if cx < 0 or cx >= dims[0]:
-                continue
-            for dy in range(-1, 2):
-                cy = cell[i, 1] + dy
-                if cy < 0 or cy >= dims[1]:
-                    continue
-                for dz in range(-1, 2):
-                    cz = cell[i, 2] + dz
-                    if cz < 0 or cz >= dims[2]:
-                        continue
-                    a, b = cell_range((cx * dims[1] + cy) * dims[2] + cz, keys_sorted, dense_start)
-                    for t in range(a, b):
-                        j = order[t]
-                        if j > i and overlap(S, i, j) and may_collide(S, i, j, avoid_self):
-                            if fill:
-                                out[base + n, 0] = i
-                                out[base + n, 1] = j
-                            n += 1
-        for j in large:
-            if j > i and overlap(S, i, j) and may_collide(S, i, j, avoid_self):
-                if fill:
-                    out[base + n, 0] = i
-                    out[base + n, 1] = j
-                n += 1
-        if fill:  # insertion sort of the (short) partner list by id
-            for u in range(base + 1, base + n):
-                v = out[u, 1]
-                w = u - 1
-                while w >= base and out[w, 1] > v:
-                    out[w + 1, 1] = out[w, 1]
-                    w -= 1
-                out[w + 1, 1] = v
+    in_order = False
+    if grid.small[i]:
+        n = small_partners(i, S, grid, avoid_self, 0, base, out)
+    elif is_binned_large(i, grid):
+        n = binned_large_partners(i, S, grid, avoid_self, 0, base, out)
     else:
+        n = 0
         for j in range(i + 1, nb):  # in id order: already sorted
             if S.bound_min[j, 0] <= S.bound_max[j, 0] and overlap(S, i, j) and may_collide(S, i, j, avoid_self):
-                if fill:
-                    out[base + n, 0] = i
-                    out[base + n, 1] = j
-                n += 1
+                n = add_partner(i, j, n, base, out)
+        in_order = True
     if not fill:
         count[i] = n
+    elif not in_order:
+        sort_partners(out, base, n)
 
 
 @jit
-def partners_block(b, S, nb, small, cell, dims, order, keys_sorted, dense_start, large, avoid_self, count, start,
-                   out):
+def sort_partners(out, base, n):
+    """Sort the partner ids ``out[base:base + n, 1]`` (insertion sort for the short lists of small bodies)."""
+    if n > 32:
+        out[base:base + n, 1] = np.sort(out[base:base + n, 1])
+        return
+    for u in range(base + 1, base + n):
+        v = out[u, 1]
+        w = u - 1
+        while w >= base and out[w, 1] > v:
+            out[w + 1, 1] = out[w, 1]
+            w -= 1
+        out[w + 1, 1] = v
+
+
+@jit
+def is_binned_large(i, grid):
+    """Whether large body ``i`` is listed in the cells it covers (else it is in ``grid.rest``)."""
+    k = lower_bound(grid.rest, i)
+    return not (k < grid.rest.shape[0] and grid.rest[k] == i)
+
+
+@jit
+def partners_block(b, S, nb, grid, avoid_self, count, start, out):
     """Bodies of block ``b`` (borrowing the arrays: no reference counting per body)."""
-    small, cell, dims, order, keys_sorted, dense_start, large, count, start, out = borrow(
-        (small, cell, dims, order, keys_sorted, dense_start, large, count, start, out))
+    grid, count, start, out = borrow((grid, count, start, out))
     for i in range(b * BLOCK, min(nb, (b + 1) * BLOCK)):
-        partners_of(i, S, nb, small, cell, dims, order, keys_sorted, dense_start, large, avoid_self, count, start,
-                    out)
+        partners_of(i, S, nb, grid, avoid_self, count, start, out)
 
 
-def _partners(S, nb, small, cell, dims, order, keys_sorted, dense_start, large, avoid_self, count, start, out):
+def _partners(S, nb, grid, avoid_self, count, start, out):
     """Pass 1 (``out`` empty): count partners j > i of each body. Pass 2: write them."""
     queue = block_queue((nb + BLOCK - 1) // BLOCK)
     for w in prange(queue_workers(queue)):
         b = next_block(queue, w, -1)
         while b >= 0:
-            partners_block(b, S, nb, small, cell, dims, order, keys_sorted, dense_start, large, avoid_self, count,
-                           start, out)
+            partners_block(b, S, nb, grid, avoid_self, count, start, out)
             b = next_block(queue, w, b)
 
 
@@ -277,7 +385,7 @@ partners, partners_par = kernel(_partners)
 
 @jit
 def grid_bodies(S, nb):
-    """Split the bodies with a bound into those binned in the grid and the large ones tested against all.
+    """Split the bodies with a bound into those binned in the grid and the large ones.
 
     The grid spacing ``h`` is the largest bound width (largest extent) not above four times the median
     finite width; bodies no wider than ``h`` are binned. Returns ``(small, idx, large, h)``: the mask (nb,)
@@ -328,14 +436,76 @@ def grid_bodies(S, nb):
 
 
 @jit
+def cell_table(keys_sorted, ncells, dense):
+    """Start of each cell in a list sorted by cell key, (ncells + 1,); empty when not ``dense``."""
+    if not dense:
+        return np.zeros(0, np.int64)
+    table = np.zeros(ncells + 1, np.int64)
+    for key in keys_sorted:
+        table[key + 1] += 1
+    for k in range(ncells):
+        table[k + 1] += table[k]
+    return table
+
+
+@jit
+def bin_large(S, large, nsmall, lo, h, dims, dense):
+    """List the large bodies whose bound covers few cells in each cell it covers: ``(order, keys, table,
+    rest)`` (see :class:`BodyGrid`). Visiting a cell costs about as much as testing a body, so a body is
+    binned when it covers at most ``nsmall / 8 + 64`` cells, as long as the list stays below
+    ``8 nsmall + 4096`` entries (in id order: the same bodies every time)."""
+    per_body = nsmall // 8 + 64
+    budget = 8 * nsmall + 4096
+    binned = np.zeros(large.shape[0], np.bool_)
+    total = 0
+    for t in range(large.shape[0]):
+        i = large[t]
+        finite = True
+        for k in range(3):
+            finite = finite and math.isfinite(S.bound_min[i, k]) and math.isfinite(S.bound_max[i, k])
+        if not finite or nsmall == 0:
+            continue
+        x0, y0, z0, x1, y1, z1 = cell_span(S, i, lo, h, dims)
+        cells = (x1 - x0 + 1) * (y1 - y0 + 1) * (z1 - z0 + 1)
+        if cells <= per_body and total + cells <= budget:
+            binned[t] = True
+            total += cells
+    keys = np.empty(total, np.int64)
+    ids = np.empty(total, np.int32)
+    rest = np.empty(large.shape[0] - binned.sum(), np.int32)
+    m = 0
+    r = 0
+    for t in range(large.shape[0]):
+        i = large[t]
+        if not binned[t]:
+            rest[r] = i
+            r += 1
+            continue
+        x0, y0, z0, x1, y1, z1 = cell_span(S, i, lo, h, dims)
+        for cx in range(x0, x1 + 1):
+            for cy in range(y0, y1 + 1):
+                for cz in range(z0, z1 + 1):
+                    keys[m] = (cx * dims[1] + cy) * dims[2] + cz
+                    ids[m] = i
+                    m += 1
+    perm = argsort_keys(keys)  # stable: within a cell, in id order
+    order = np.empty(total, np.int32)
+    keys_sorted = np.empty(total, np.int64)
+    for t in range(total):
+        order[t] = ids[perm[t]]
+        keys_sorted[t] = keys[perm[t]]
+    return order, keys_sorted, cell_table(keys_sorted, dims[0] * dims[1] * dims[2], dense), rest
+
+
+@jit
 def find_pairs(S, nb, avoid_self):
     """All pairs (i < j) with overlapping bounds that may collide, sorted, shape (P, 2)."""
     small, idx, large, h = grid_bodies(S, nb)
     # bin the small bodies by the cell of their lower corner
     cell = np.zeros((nb, 3), np.int64)
     dims = np.ones(3, np.int64)
+    lo = np.zeros(3)
     if idx.shape[0] > 0:
-        lo = np.empty(3)
         hi = np.empty(3)
         for k in range(3):
             lo[k] = S.bound_min[idx[0], k]
@@ -363,29 +533,25 @@ def find_pairs(S, nb, avoid_self):
         order[t] = idx[perm[t]]
         keys_sorted[t] = keys[perm[t]]
     ncells = dims[0] * dims[1] * dims[2]
-    if ncells <= 4 * idx.shape[0] + 1024:
-        dense_start = np.zeros(ncells + 1, np.int64)
-        for key in keys_sorted:
-            dense_start[key + 1] += 1
-        for k in range(ncells):
-            dense_start[k + 1] += dense_start[k]
-    else:
-        dense_start = np.zeros(0, np.int64)
+    dense = ncells <= 4 * idx.shape[0] + 1024
+    large_order, large_keys, large_dense, rest = bin_large(S, large, idx.shape[0], lo, h, dims, dense)
+    grid = BodyGrid(small, cell, dims, lo, h, order, keys_sorted, cell_table(keys_sorted, ncells, dense), large,
+                    large_order, large_keys, large_dense, rest)
     count = np.zeros(nb, np.int64)
     start = np.zeros(nb + 1, np.int64)
     none = np.zeros((0, 2), np.int32)
     par = nb >= PARALLEL_THRESHOLD
     if par:
-        partners_par(S, nb, small, cell, dims, order, keys_sorted, dense_start, large, avoid_self, count, start, none)
+        partners_par(S, nb, grid, avoid_self, count, start, none)
     else:
-        partners(S, nb, small, cell, dims, order, keys_sorted, dense_start, large, avoid_self, count, start, none)
+        partners(S, nb, grid, avoid_self, count, start, none)
     for i in range(nb):
         start[i + 1] = start[i] + count[i]
     out = np.empty((start[nb], 2), np.int32)
     if par:
-        partners_par(S, nb, small, cell, dims, order, keys_sorted, dense_start, large, avoid_self, count, start, out)
+        partners_par(S, nb, grid, avoid_self, count, start, out)
     else:
-        partners(S, nb, small, cell, dims, order, keys_sorted, dense_start, large, avoid_self, count, start, out)
+        partners(S, nb, grid, avoid_self, count, start, out)
     return out, start
 
 
@@ -508,12 +674,15 @@ def collider_stage(S, C, P):
                 rmin = min(rmin, S.sphere_radius[S.shape_row[i]])
         verlet = -verlet * rmin if rmin < math.inf else 0.0
     S.scal[S_VERLET] = verlet
+    # a relative displacement of two bodies between collider runs stays near 2 verlet: int16 units cover 4
+    S.scal[S_PAIR_REF_UNIT] = verlet / 8192.0 if verlet > 0.0 else 1e-9
     # drop the old pair list first: at a million bodies it takes hundreds of MB (relink needs only the contacts)
     C.ctr[C_PAIRS] = 0
     C.pair_ids = np.zeros((0, 2), np.int32)
     C.pair_cell = np.zeros((0, 3), np.int32)
     C.pair_con = np.zeros(0, np.int32)
     C.pair_gap = np.zeros(0, np.float32)
+    C.pair_ref = np.zeros((0, 3), np.int16)
     C.pair_hit = np.zeros(0, np.uint8)
     if nb < PARALLEL_THRESHOLD:
         compute_bounds(R, nb, bound_code, bound_tab, verlet)
@@ -542,4 +711,5 @@ def collider_stage(S, C, P):
     C.pair_cell = cells
     C.pair_con = pair_con
     C.pair_gap = pair_gap
+    C.pair_ref = np.zeros((n, 3), np.int16)
     C.pair_hit = np.zeros(n, np.uint8)

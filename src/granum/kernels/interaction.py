@@ -28,6 +28,7 @@ from granum._jit import BLOCK, PARALLEL_THRESHOLD, PARALLEL_THRESHOLD_CONTACTS, 
 from granum.core.arrays import (
     E_ELAST_POT,
     E_PLAST_DISSIP,
+    S_PAIR_REF_UNIT,
     SI_ITER,
     SI_NBODIES,
     SI_PERIODIC,
@@ -98,10 +99,10 @@ def pair_shift(S, C, p):
 
 
 @jit
-def detect_pair(p, S, C, geom_code, geom_swap, geom_tab, pair_ok, moved):
-    """Evaluate potential pair ``p`` (no contact, budget used up; its bodies moved ``moved`` relative to
-    each other):
-    the ``HIT_*`` outcome, and the pair's new budget when it does not touch (see :func:`detect_block`)."""
+def detect_pair(p, S, C, geom_code, geom_swap, geom_tab, pair_ok, rel, turn):
+    """Evaluate potential pair ``p`` (no contact, budget used up): the ``HIT_*`` outcome; when the bodies do
+    not touch, the pair's new budget and reference motion (see :func:`detect_block`). ``rel``: the relative
+    displacement d_a - d_b of its bodies since the collider ran [m], ``turn``: w_a + w_b [m]."""
     a = C.pair_ids[p, 0]
     b = C.pair_ids[p, 1]
     ka = S.shape_kind[a]
@@ -118,8 +119,23 @@ def detect_pair(p, S, C, geom_code, geom_swap, geom_tab, pair_ok, moved):
     sep = geom_call(code, -1, a, b, shift, S, C, geom_tab)  # one call site: the functors are inlined
     if sep <= 0.0:
         return HIT_TOUCH
-    C.pair_gap[p] = budget_f32(sep - moved)
+    unit = S.scal[S_PAIR_REF_UNIT]
+    err2 = 0.0
+    for k in range(3):  # the nearest representable reference (int16 units), its rounding error taken from the budget
+        q = min(max(round(rel[k] / unit), -32767.0), 32767.0)
+        C.pair_ref[p, k] = np.int16(q)
+        err2 += (rel[k] - q * unit) ** 2
+    C.pair_gap[p] = budget_f32(sep - turn - math.sqrt(err2) - reference_length(C.pair_ref, p, unit))
     return 0
+
+
+@jit
+def reference_length(pair_ref, p, unit):
+    """|unit * pair_ref[p]| [m], computed alike wherever it is needed (the budget must not see another rounding)."""
+    x = unit * float(pair_ref[p, 0])
+    y = unit * float(pair_ref[p, 1])
+    z = unit * float(pair_ref[p, 2])
+    return math.sqrt(x * x + y * y + z * z)
 
 
 @jit
@@ -137,30 +153,35 @@ def detect_block(b, S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, bound
     """Which pairs of block ``b`` without a contact touch now: ``pair_hit``.
 
     The geometry of a pair is evaluated only when the relative motion of its two bodies since
-    the collider ran reaches the pair's budget ``pair_gap``. With d_a, d_b the displacements of
-    the bodies' centres since then and w_a, w_b their rotations times their reach (``motion``,
-    see :func:`body_motions`), the relative motion is m = |d_a - d_b| + w_a + w_b. Below the
-    budget, the separation found at the last evaluation, less everything the bodies may have
-    moved relative to each other since the collider ran, is still positive: they cannot touch.
-    After an evaluation that finds a separation s > 0 the budget is s - m(now), which keeps that
-    bound valid for any later relative motion measured from the same reference (the motion
-    between t0 and t is at most m(t) + m(t0)). Bodies moving together (a falling cluster) never
-    use up their budgets. In a periodic cell body b's image sits at x_b + H k, so d_b also holds
-    H k - H0 k, H0 the cell when the collider ran (``cell_bound_hsize``): still the exact
-    displacement of the image. ``bound`` [m] is an upper bound of m over all pairs
-    (:func:`motion_bound`): a pair whose budget exceeds it is passed over without reading more.
-    The arrays are read into locals (borrowed: no reference counting per pair).
+    its last evaluation reaches what the separation then found allows. With d_a, d_b the
+    displacements of the bodies' centres since the collider ran and w_a, w_b their rotations
+    times their reach (``motion``, see :func:`body_motions`), D = d_a - d_b: any point of body a
+    moved relative to body b by at most |D(t) - D(t0)| + w_a(t) + w_b(t) + w_a(t0) + w_b(t0)
+    between t0 and t (rotations measured from the same reference orientations add). An
+    evaluation at t0 finding a separation s > 0 stores D(t0), rounded to int16 units
+    (``pair_ref``, ``unit * ref``), and the budget g = s - w_a(t0) - w_b(t0) - |D(t0) - unit ref|
+    - |unit ref| (``pair_gap``). The pair cannot touch while
+    |D(t) - unit ref| + w_a(t) + w_b(t) < g + |unit ref|. A pair whose bodies slide past each
+    other is evaluated once per separation's worth of relative motion, however far they moved
+    before. In a periodic cell body b's image sits at x_b + H k, so d_b also holds H k - H0 k,
+    H0 the cell when the collider ran (``cell_bound_hsize``): still the exact displacement of
+    the image.
+
+    ``bound`` [m] bounds |D(t)| + w_a(t) + w_b(t) over all pairs (:func:`motion_bound`). Since
+    |D(t) - unit ref| <= |D(t)| + |unit ref|, a pair whose budget exceeds it cannot touch and is
+    passed over without reading more (+inf when it has a contact): in a quasi-static packing
+    the pass reads 5 bytes per pair. The arrays are read into locals (borrowed: no reference
+    counting per pair).
     """
-    motion, hits, pair_con, pair_ids, pair_gap, pair_hit = borrow((motion, hits, C.pair_con, C.pair_ids,
-                                                                   C.pair_gap, C.pair_hit))
+    motion, hits, pair_con, pair_ids, pair_gap, pair_hit, pair_ref = borrow(
+        (motion, hits, C.pair_con, C.pair_ids, C.pair_gap, C.pair_hit, C.pair_ref))
     geom_code, geom_swap, geom_tab, pair_ok = borrow((geom_code, geom_swap, geom_tab, pair_ok))
     periodic = S.iscal[SI_PERIODIC] != 0
+    unit = S.scal[S_PAIR_REF_UNIT]
     pair_cell = borrow(C.pair_cell)
     found = 0
     for p in range(b * BLOCK, min(C.ctr[C_PAIRS], (b + 1) * BLOCK)):
         hit = 0
-        # a budget above every pair's motion (``bound``, see motion_bound) needs neither the pair's bodies nor
-        # its contact (+inf when it has one): in a quasi-static packing the pass reads 5 bytes per pair
         if not pair_gap[p] > bound and pair_con[p] < 0:
             i = pair_ids[p, 0]
             j = pair_ids[p, 1]
@@ -173,12 +194,14 @@ def detect_block(b, S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, bound
                 dx -= img[0]
                 dy -= img[1]
                 dz -= img[2]
-            d2 = dx * dx + dy * dy + dz * dz
-            slack = pair_gap[p] - motion[i, 3] - motion[j, 3]
-            # m < budget, i.e. |d_a - d_b| < budget - w_a - w_b, compared squared: no square root per pair
-            if not (slack > 0.0 and d2 < slack * slack):
-                moved = math.sqrt(d2) + motion[i, 3] + motion[j, 3]
-                hit = detect_pair(p, S, C, geom_code, geom_swap, geom_tab, pair_ok, moved)
+            ex = dx - unit * float(pair_ref[p, 0])
+            ey = dy - unit * float(pair_ref[p, 1])
+            ez = dz - unit * float(pair_ref[p, 2])
+            slack = pair_gap[p] + reference_length(pair_ref, p, unit) - motion[i, 3] - motion[j, 3]
+            # |D - unit ref| < slack, compared squared: no square root per pair
+            if not (slack > 0.0 and ex * ex + ey * ey + ez * ez < slack * slack):
+                hit = detect_pair(p, S, C, geom_code, geom_swap, geom_tab, pair_ok, (dx, dy, dz),
+                                  motion[i, 3] + motion[j, 3])
                 found += hit != 0
         pair_hit[p] = hit
     hits[b] = found
