@@ -254,29 +254,40 @@ def add_partner(i, j, n, base, out):
 
 
 @jit
-def small_partners(i, S, grid, avoid_self, n, base, out):
-    """Partners j > i of small body ``i``: small bodies in the 27 cells around its cell, binned large bodies
-    in the cells its bound covers (each counted in the first cell both cover), and the ``rest``."""
-    cell, dims = grid.cell, grid.dims
-    for dx in range(-1, 2):
-        cx = cell[i, 0] + dx
-        if cx < 0 or cx >= dims[0]:
-            continue
-        for dy in range(-1, 2):
-            cy = cell[i, 1] + dy
-            if cy < 0 or cy >= dims[1]:
-                continue
-            for dz in range(-1, 2):
-                cz = cell[i, 2] + dz
-                if cz < 0 or cz >= dims[2]:
-                    continue
+def small_in_cells(i, S, grid, avoid_self, first, last, n, base, out):
+    """Partners j > i of body ``i`` among the small bodies binned in the cells ``first`` to ``last`` (cell
+    indices per axis, clipped to the grid)."""
+    dims = grid.dims
+    for cx in range(max(first[0], 0), min(last[0], dims[0] - 1) + 1):
+        for cy in range(max(first[1], 0), min(last[1], dims[1] - 1) + 1):
+            for cz in range(max(first[2], 0), min(last[2], dims[2] - 1) + 1):
                 a, b = cell_range((cx * dims[1] + cy) * dims[2] + cz, grid.keys_sorted, grid.dense_start)
                 for t in range(a, b):
                     j = grid.order[t]
                     if j > i and overlap(S, i, j) and may_collide(S, i, j, avoid_self):
                         n = add_partner(i, j, n, base, out)
+    return n
+
+
+@jit
+def listed_partners(i, S, ids, avoid_self, n, base, out):
+    """Partners j > i of body ``i`` among the bodies ``ids`` (in id order)."""
+    for j in ids:
+        if j > i and overlap(S, i, j) and may_collide(S, i, j, avoid_self):
+            n = add_partner(i, j, n, base, out)
+    return n
+
+
+@jit
+def small_partners(i, S, grid, avoid_self, n, base, out):
+    """Partners j > i of small body ``i``: small bodies in the 27 cells around its cell, binned large bodies
+    in the cells its bound covers (each counted in the first cell both cover), and the ``rest``."""
+    c = grid.cell
+    n = small_in_cells(i, S, grid, avoid_self, (c[i, 0] - 1, c[i, 1] - 1, c[i, 2] - 1),
+                       (c[i, 0] + 1, c[i, 1] + 1, c[i, 2] + 1), n, base, out)
     if grid.large_order.shape[0] > 0:
-        x0, y0, z0, x1, y1, z1 = cell_span(S, i, grid.lo, grid.h, grid.dims)
+        dims = grid.dims
+        x0, y0, z0, x1, y1, z1 = cell_span(S, i, grid.lo, grid.h, dims)
         for cx in range(x0, x1 + 1):
             for cy in range(y0, y1 + 1):
                 for cz in range(z0, z1 + 1):
@@ -285,34 +296,20 @@ def small_partners(i, S, grid, avoid_self, n, base, out):
                         j = grid.large_order[t]
                         if j <= i or not overlap(S, i, j):
                             continue
-                        u0, v0, w0, _, _, _ = cell_span(S, j, grid.lo, grid.h, grid.dims)
+                        u0, v0, w0, _, _, _ = cell_span(S, j, grid.lo, grid.h, dims)
                         if cx == max(x0, u0) and cy == max(y0, v0) and cz == max(z0, w0) and \
                                 may_collide(S, i, j, avoid_self):
                             n = add_partner(i, j, n, base, out)
-    for j in grid.rest:
-        if j > i and overlap(S, i, j) and may_collide(S, i, j, avoid_self):
-            n = add_partner(i, j, n, base, out)
-    return n
+    return listed_partners(i, S, grid.rest, avoid_self, n, base, out)
 
 
 @jit
 def binned_large_partners(i, S, grid, avoid_self, n, base, out):
     """Partners j > i of binned large body ``i``: small bodies binned in the cells its bound covers or just
     below them (a small bound reaches one cell above its own), and the large bodies."""
-    dims = grid.dims
     x0, y0, z0, x1, y1, z1 = cell_span(S, i, grid.lo, grid.h, grid.dims)
-    for cx in range(max(x0 - 1, 0), x1 + 1):
-        for cy in range(max(y0 - 1, 0), y1 + 1):
-            for cz in range(max(z0 - 1, 0), z1 + 1):
-                a, b = cell_range((cx * dims[1] + cy) * dims[2] + cz, grid.keys_sorted, grid.dense_start)
-                for t in range(a, b):
-                    j = grid.order[t]
-                    if j > i and overlap(S, i, j) and may_collide(S, i, j, avoid_self):
-                        n = add_partner(i, j, n, base, out)
-    for j in grid.large:
-        if j > i and overlap(S, i, j) and may_collide(S, i, j, avoid_self):
-            n = add_partner(i, j, n, base, out)
-    return n
+    n = small_in_cells(i, S, grid, avoid_self, (x0 - 1, y0 - 1, z0 - 1), (x1, y1, z1), n, base, out)
+    return listed_partners(i, S, grid.large, avoid_self, n, base, out)
 
 
 @jit
