@@ -81,3 +81,42 @@ def test_uniaxial_features_refuse_what_yade_ignores(yade):
         yade.utils.uniaxialTestFeatures(foo=1)
     with pytest.raises(ValueError, match="coord must be finite"):
         yade.utils.approxSectionArea(float("nan"), 2)
+
+
+# ---- the CPM specimen on YADE's packing ----------------------------------------------------------------------
+#: extremum stresses and the stress up to them: YADE's spread with another summation order (-j2 against -j1) and
+#: granum's measured distance from YADE (0.1 % tension, 0.06 % compression; curves 0.04 % and 0.2 % of the peak)
+PEAK_RTOL, CURVE_RTOL = 0.01, 0.005
+
+
+@pytest.fixture(scope="module")
+def uniax():
+    from granum.cli import install_yade_alias
+
+    install_yade_alias()  # the script imports yade.plot and yade.pack, as under the launcher
+    return granum_reference_run("uniax_cpm.py"), reference("uniax_cpm")
+
+
+def test_uniax_set_up_matches_yade(uniax):
+    got, ref = uniax
+    assert got["n"] == ref["n"] == 85
+    _close(got["features"], ref["features"], "features")
+    assert got["dt"] == pytest.approx(ref["dt"], rel=1e-14)
+    assert got["area_50"] == pytest.approx(ref["area_50"], rel=AREA_RTOL)
+
+
+@pytest.mark.parametrize("mode", ["tension", "compression"])
+def test_uniax_peak_stress_matches_yade(uniax, mode):
+    got, ref = uniax
+    g, r = got[mode], ref[mode]
+    assert g["peak"] == pytest.approx(r["peak"], rel=PEAK_RTOL)
+    assert abs(g["iterPeak"] - r["iterPeak"]) <= 32  # two data points
+    assert g["epsPeak"] == pytest.approx(r["epsPeak"], rel=0.02)
+    # the stress-strain curve up to the peak, at the same steps (data every 16 steps from step 1 in both)
+    n = r["i"].index(r["iterPeak"]) + 1
+    assert g["i"][:n] == r["i"][:n]
+    np.testing.assert_allclose(g["eps"][:n], r["eps"][:n], rtol=1e-9)  # positions summed in another order
+    for key in ("sigma", "sigma50"):
+        np.testing.assert_allclose(g[key][:n], r[key][:n], rtol=0, atol=CURVE_RTOL * abs(r["peak"]))
+    # softening to half the peak ends both runs
+    assert abs(g["sigma"][-1]) < 0.5 * abs(g["peak"])
