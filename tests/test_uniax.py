@@ -83,6 +83,24 @@ def test_uniaxial_features_refuse_what_yade_ignores(yade):
         yade.utils.approxSectionArea(float("nan"), 2)
 
 
+# ---- UniaxialStrainer.setSpeeds ---------------------------------------------------------------------------------
+def test_strainer_set_speeds_as_yade():
+    """Every body's velocity and position after each of 3 steps: with setSpeeds the strainer's first run gives all
+    live bodies the axial velocity v_n + rate (x - x_n0) (fixed ones too, other components kept); without it only
+    the groups move. Closed forms: what YADE gives, to round-off."""
+    got, ref = granum_reference_run("strainer_speeds.py"), reference("strainer_speeds")
+    assert set(got) == set(ref)
+    for case, r in ref.items():
+        g = got[case]
+        assert g["originalLength"] == pytest.approx(r["originalLength"], rel=1e-15), case
+        assert g["strain"] == pytest.approx(r["strain"], rel=1e-12, abs=1e-15), case
+        for gs, rs in zip(g["steps"], r["steps"], strict=True):
+            np.testing.assert_allclose(np.array([list(v) for v in gs["vel"]]), rs["vel"], rtol=1e-12, atol=1e-15,
+                                       err_msg=case)
+            np.testing.assert_allclose(np.array([list(v) for v in gs["pos"]]), rs["pos"], rtol=1e-14, atol=1e-15,
+                                       err_msg=case)
+
+
 # ---- the CPM specimen on YADE's packing ----------------------------------------------------------------------
 #: extremum stresses and the stress up to them: YADE's spread with another summation order (-j2 against -j1) and
 #: granum's measured distance from YADE (0.1 % tension, 0.06 % compression; curves 0.04 % and 0.2 % of the peak)
