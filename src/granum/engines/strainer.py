@@ -39,9 +39,9 @@ class UniaxialStrainer(GlobalEngine):
 
     At its first run the engine measures ``originalLength``, completes ``strainRate``/``absSpeed`` from each other
     and blocks the groups' DOF along the axis (and their other translations with ``blockDisplacements``, their
-    rotations with ``blockRotations``). ``initAccelTime`` and ``setSpeeds`` are kept for YADE's scripts: YADE
-    2023.02a moves the groups at full speed from the first step whatever their values (measured), and so does
-    granum.
+    rotations with ``blockRotations``); with ``setSpeeds`` the stage's first run gives every body the axial
+    velocity of the uniform strain rate. ``initAccelTime`` is kept for YADE's scripts: YADE 2023.02a moves the
+    groups at full speed from the first step whatever its value (measured), and so does granum.
     """
 
     stage = "granum.kernels.strainer:strainer_stage"
@@ -51,7 +51,8 @@ class UniaxialStrainer(GlobalEngine):
                          to_float("absSpeed")),
         "initAccelTime": Attr(-200.0, "Kept for YADE's scripts (no effect, as in YADE 2023.02a)",
                               to_float("initAccelTime")),
-        "setSpeeds": Attr(False, "Kept for YADE's scripts (no effect, as in YADE 2023.02a)", to_bool),
+        "setSpeeds": Attr(False, "At the first run, give every body the axial velocity of the uniform strain rate",
+                          to_bool),
         "stopStrain": Attr(math.nan, "Strain at which the straining stops [-] (NaN: never)", to_float("stopStrain")),
         "idleIterations": Attr(0, "Kept for YADE's scripts (YADE 2023.02a leaves it 0)", to_int("idleIterations")),
         "axis": Attr(2, "The strained axis (0, 1, 2)", _axis),
@@ -110,6 +111,7 @@ class UniaxialStrainer(GlobalEngine):
             self.strainRate = self.absSpeed / length
         bits = 1 << self.axis | (0b111 if self.blockDisplacements else 0) | (0b111000 if self.blockRotations else 0)
         b.blocked[pos + neg] |= bits
+        self._st[k.U_SET_SPEEDS] = float(self.setSpeeds)
 
     def params(self, scene, engines) -> k.StrainerParams:
         name = type(self).__name__

@@ -10,6 +10,11 @@ NewtonIntegrator and the bodies' axis DOF is blocked, so their velocities are wh
   (tension positive);
 * the groups move apart at the speed v = ε̇·L0 (``absSpeed``): symmetric, ±v/2 (positive group +); with
   ``asymmetry`` 1 only the positive group moves (+v), with −1 only the negative one (−v);
+* ``setSpeeds``, at the engine's first run only: every live body first takes the axial velocity of the uniform
+  strain rate, v_n + ε̇·(x − x_n0) (v_n the negative group's speed, x_n0 its first body's coordinate, positions
+  as the engine finds them: after NewtonIntegrator's move when it comes after it), its other components kept,
+  fixed bodies included (YADE 2023.02a, measured: tests/reference/yade/strainer_speeds.py); the specimen then
+  strains from the first step instead of waiting for the groups' pull to cross it;
 * ``stopStrain``: when ε + ε̇·dt ≥ stopStrain, v becomes (stopStrain − ε)·L0/dt for this last step (the groups
   reach it exactly) and the engine becomes inactive; the bodies keep the velocities it gave them.
 """
@@ -22,14 +27,15 @@ from typing import NamedTuple
 import numpy as np
 
 from granum._jit import jit
-from granum.core.arrays import S_DT, SI_ITER
+from granum.core.arrays import S_DT, SI_ITER, SI_NBODIES
 
 # slots of the engine's state array
 U_LENGTH0 = 0     # originalLength [m]
 U_STRAIN = 1      # strain [-]
 U_STRESS = 2      # avgStress [Pa]
 U_ACTIVE = 3      # active (0 or 1)
-U_SIZE = 4
+U_SET_SPEEDS = 4  # 1 until the first run when setSpeeds is on, then 0
+U_SIZE = 5
 
 
 class StrainerParams(NamedTuple):
@@ -74,6 +80,12 @@ def strainer_stage(S, C, P):
         vp, vn = speed, 0.0
     elif P.asymmetry == -1:
         vp, vn = 0.0, -speed
+    if st[U_SET_SPEEDS] != 0.0:
+        st[U_SET_SPEEDS] = 0.0
+        x_n, pos, vel, alive = S.pos[P.neg_ids[0], a], S.pos, S.vel, S.alive
+        for i in range(S.iscal[SI_NBODIES]):
+            if alive[i]:
+                vel[i, a] = vn + P.strain_rate * (pos[i, a] - x_n)
     for i in P.pos_ids:
         S.vel[i, a] = vp
     for i in P.neg_ids:

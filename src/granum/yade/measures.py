@@ -21,7 +21,7 @@ __all__ = [
     "momentum", "angularMomentum", "aabbDim", "fractionalBox", "perpendicularArea", "sumFacetNormalForces",
     "forcesOnPlane", "forcesOnCoordPlane", "maxOverlapRatio", "psd", "sumTorques", "numIntrsOfEachBody",
     "getBodyIdsContacts", "negPosExtremeIds", "getSpheresVolume2D", "totalForceInVolume", "voxelPorosity",
-    "stressTensorOfPeriodicCell", "flipCell",
+    "stressTensorOfPeriodicCell", "flipCell", "approxSectionArea", "uniaxialTestFeatures",
 ]
 
 
@@ -191,6 +191,85 @@ def negPosExtremeIds(axis, distFactor) -> tuple[list, list]:
     x = O._scene.bodies.pos[ids, axis]
     lo, hi = (x - r).min(), (x + r).max()
     return ids[x - distFactor * r <= lo].tolist(), ids[x + distFactor * r >= hi].tolist()
+
+
+#: approxSectionArea's outline of a sphere of radius r about its centre, in the plane's coordinates
+#: (u, v) = (x[axis + 1], x[axis + 2]) (indices mod 3), in units of r: the hexagon (cos k pi/3, 2 sin k pi/3),
+#: twice as tall along v as wide (area 3 sqrt(3) r^2), whatever the sphere's distance to the plane. What YADE
+#: 2023.02a's convex hull encloses, measured point by point (tests/reference/yade/section_area.py); its
+#: documentation warns that the function is approximate.
+SECTION_OUTLINE = np.array([[math.cos(k * math.pi / 3), 2.0 * math.sin(k * math.pi / 3)] for k in range(6)])
+#: uniaxialTestFeatures' sections: the interior points of UNIAXIAL_SECTIONS equally spaced points from one end
+#: of the spheres' bounding box to the other along the axis (YADE 2023.02a's, whatever its ``areaSections``)
+UNIAXIAL_SECTIONS = 10
+
+
+def _coord_axis(axis, fn) -> int:
+    if isinstance(axis, bool) or axis not in (0, 1, 2):
+        raise ValueError(f"{fn}: axis must be 0, 1 or 2, got {axis!r}")
+    return int(axis)
+
+
+def _convex_hull_area(p: np.ndarray) -> float:
+    """Area of the convex hull of the points ``p`` (n, 2) [m^2] (Andrew's monotone chain; 0 below 3 points)."""
+    p = np.unique(p, axis=0)  # sorted by u, then v
+    if p.shape[0] < 3:
+        return 0.0
+    pts = [tuple(q) for q in p]
+
+    def chain(points):
+        h = []
+        for q in points:
+            while len(h) >= 2 and ((h[-1][0] - h[-2][0]) * (q[1] - h[-2][1])
+                                   - (h[-1][1] - h[-2][1]) * (q[0] - h[-2][0])) <= 0:
+                h.pop()
+            h.append(q)
+        return h[:-1]
+
+    hull = np.array(chain(pts) + chain(pts[::-1]))
+    u, v = hull[:, 0], hull[:, 1]
+    return float(0.5 * abs(u @ np.roll(v, -1) - v @ np.roll(u, -1)))
+
+
+def approxSectionArea(coord, axis) -> float:
+    """Approximate area [m^2] of the section of the packing by the plane x[axis] = ``coord``: the convex hull of
+    the spheres that reach the plane (x[axis] - r <= coord <= x[axis] + r), each taken as the hexagon
+    :data:`SECTION_OUTLINE` of its full radius about its centre (YADE's approximation, as measured)."""
+    axis = _coord_axis(axis, "approxSectionArea")
+    c = float(coord)
+    if not math.isfinite(c):
+        raise ValueError(f"approxSectionArea: coord must be finite, got {coord!r}")
+    ids, r = _spheres()
+    x = O._scene.bodies.pos[ids]
+    cut = (x[:, axis] - r <= c) & (x[:, axis] + r >= c)
+    uv = x[cut][:, [(axis + 1) % 3, (axis + 2) % 3]]
+    return _convex_hull_area((uv[:, None, :] + r[cut, None, None] * SECTION_OUTLINE).reshape(-1, 2))
+
+
+def uniaxialTestFeatures(filename=None, areaSections=10, axis=-1, distFactor=2.2, **kw) -> dict:
+    """What a uniaxial test needs from the spheres in the scene: ``{"negIds", "posIds", "axis", "area"}``.
+
+    ``axis``: the given one, or (-1) the longest side of the spheres' bounding box (the first of equal ones);
+    ``negIds``/``posIds``: :func:`negPosExtremeIds` (``axis``, ``distFactor``); ``area``: the smallest
+    :func:`approxSectionArea` [m^2] over the sections at the interior points of UNIAXIAL_SECTIONS equally spaced
+    points along the box (YADE 2023.02a samples these 8 whatever ``areaSections`` says, so granum refuses another
+    value). Loading the spheres from ``filename`` (with ``kw``) is refused: YADE 2023.02a's fails too
+    (NameError: spheresFromFile).
+    """
+    if filename is not None or kw:
+        raise NotImplementedError(f"uniaxialTestFeatures(filename={filename!r}, **{kw!r}): loading spheres from a "
+                                  "file is not implemented (YADE 2023.02a's spheresFromFile no longer exists)")
+    if areaSections != UNIAXIAL_SECTIONS:
+        raise ValueError(f"uniaxialTestFeatures: areaSections={areaSections!r} is not supported: YADE 2023.02a "
+                         f"always samples the {UNIAXIAL_SECTIONS - 2} sections of the default 10")
+    ids, _ = _spheres()
+    lo, hi = (np.asarray(v._a) for v in aabbExtrema())
+    axis = int(np.argmax(hi - lo)) if axis == -1 else _coord_axis(axis, "uniaxialTestFeatures")
+    if ids.size == 0:
+        return {"negIds": [], "posIds": [], "axis": axis, "area": 0.0}
+    neg, pos = negPosExtremeIds(axis, distFactor)
+    coords = np.linspace(lo[axis], hi[axis], UNIAXIAL_SECTIONS)[1:-1]
+    return {"negIds": neg, "posIds": pos, "axis": axis, "area": min(approxSectionArea(c, axis) for c in coords)}
 
 
 def getSpheresVolume2D(mask=-1) -> float:
