@@ -4,8 +4,9 @@ and the live plots.
 The browser draws everything with vtk.js (WebGL), from arrays the server publishes in trame's shared
 state (``{"bvals": base64, "dtype": ...}`` typed arrays, which vtk.js reads without parsing numbers):
 
-* spheres through one ``vtkGlyph3DMapper`` (a sphere source instanced at each centre, scaled by its
-  radius, coloured by its RGB): one draw call, so 100,000 spheres stay interactive;
+* spheres as impostors: one screen-facing triangle per sphere, ray-cast per pixel onto the sphere of
+  the centre and radius given (vtk.js's sphere mapper, enabled by ``granum-view.js``), coloured by its
+  RGB: three vertices per sphere, so software WebGL (no GPU) keeps 100,000 spheres moving;
 * facets, boxes and walls as one triangle mesh coloured per triangle; the periodic cell, bounds and
   contact force chains as one set of coloured lines.
 
@@ -23,6 +24,7 @@ import hmac
 import io
 import threading
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -30,8 +32,9 @@ from granum.yade.view import frames
 from granum.yade.view.session import Session
 
 _COOKIE = "granum_view_token"
-#: up to this many spheres, the glyph is a finely faceted sphere; beyond, a coarse one (about 5x fewer triangles)
-ROUND_SPHERES = 5000
+#: granum's Vue plugin (granum-view.js), served beside trame-vtk's components
+CLIENT_MODULE = {"serve": {"__granum_view": str(Path(__file__).parent)},
+                 "scripts": ["__granum_view/granum-view.js"], "vue_use": ["granum_view"]}
 
 
 def typed_array(a: np.ndarray) -> dict | list:
@@ -60,8 +63,6 @@ def frame_state(frame: frames.Frame, previous: frames.Frame | None = None) -> di
         "tri_points": typed_array(frame.tri_points.ravel()),
         "line_points": typed_array(frame.line_points.ravel()),
         "n_spheres": int(len(frame.sphere_ids)),
-        # the sphere glyph's facets: round when few, coarse when many (each sphere draws them all)
-        "sph_res": [16, 16] if len(frame.sphere_ids) <= ROUND_SPHERES else [6, 8],
         "iter": frame.iter,
         "sim_time": f"{frame.time:.6g}",
         "bar_lo": f"{frame.value_range[0]:.4g}",
@@ -118,6 +119,21 @@ def token_middleware(token: str):
         return web.Response(status=403, text="granum view: this URL needs the access token printed at start\n")
 
     return check
+
+
+def sphere_impostors(scale_array: str):
+    """A ``<granum-sphere-impostors>`` element: inside a ``VtkGeometryRepresentation``, its points are drawn
+    as spheres (vtk.js's sphere mapper, one ray-cast triangle per sphere) of radius the point data array
+    named ``scale_array``."""
+    from trame_client.widgets.core import AbstractElement
+
+    class SphereImpostors(AbstractElement):
+        def __init__(self, **kwargs):
+            super().__init__("granum-sphere-impostors", **kwargs)
+            self.server.enable_module(CLIENT_MODULE)
+            self.props += ["scale_array"]
+
+    return SphereImpostors(scale_array=scale_array)
 
 
 def build_server(session: Session, token: str):
@@ -180,12 +196,10 @@ def build_server(session: Session, token: str):
             with vtkw.VtkView(ref="view", background=("bg", [0.2, 0.2, 0.2]), style="width:100%;height:100%",
                               interactor_events=("events", ["LeftButtonPress"]),
                               LeftButtonPress=(on_press, press)) as view:
-                with vtkw.VtkGlyphRepresentation(
-                        mapper=("{scaleArray: 'radius', scaleMode: 1, scaleFactor: 1, scalarVisibility: true,"
-                                " colorMode: 2}",)):
-                    vtkw.VtkAlgorithm(vtk_class="vtkSphereSource", port=1,
-                                      state=("{radius: 1, phiResolution: sph_res[0], thetaResolution: sph_res[1]}",))
-                    with vtkw.VtkPolyData("spheres", port=0, points=("sph_points",), connectivity="points"):
+                # spheres: impostors (granum-view.js), sized by the radius array, coloured by the RGB array
+                with vtkw.VtkGeometryRepresentation(mapper=("{colorMode: 2}",)):
+                    sphere_impostors(scale_array="radius")
+                    with vtkw.VtkPolyData("spheres", points=("sph_points",)):
                         with vtkw.VtkPointData():
                             vtkw.VtkDataArray(registration="setScalars", name="rgb", type="Uint8Array",
                                               number_of_components=("3",), values=("sph_rgb",))
