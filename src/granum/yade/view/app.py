@@ -152,7 +152,7 @@ def build_server(session: Session, token: str):
     state.update(frame_state(session.frame()))
     state.update(session.panel_state())
     state.update({"field": session.field, "fields": list(frames.FIELDS), "bar_stops": frames.colormap_stops(),
-                  "run_n": 100, "dt_text": "", "picked": "", "plot_png": "", "plot_rows": 0,
+                  "run_n": 100, "dt_text": "", "plot_png": "", "plot_rows": 0,
                   "message": ""})
 
     @ctrl.add("on_server_bind")
@@ -174,13 +174,15 @@ def build_server(session: Session, token: str):
     ctrl.set_dt = lambda text: command("dt", text)
     ctrl.set_dyn_dt = lambda on: command("dynDt", on)
     ctrl.reload = lambda: command("reload")
+    ctrl.edit_body = lambda key, name, text: command("edit_body", key, name, text)
+    ctrl.edit_engine = lambda k, name, text: command("edit_engine", k, name, text)
     ctrl.reset_camera = lambda: view.reset_camera()
     ctrl.yade_camera = lambda: view.set_camera(session.camera())
     ctrl.on_client_connected.add(lambda **_: session.loop.call_later(0.5, ctrl.yade_camera))
 
     def on_press(position, camera, size):
         """A press of the left button on the view: the inspector shows the body under it."""
-        state.picked = session.pick(*click_ray(position, camera, size))
+        state.update(session.pick(*click_ray(position, camera, size)))
 
     @state.change("field")
     def field_changed(field, **_):
@@ -241,16 +243,37 @@ def build_server(session: Session, token: str):
                      style=("'height:12px;background:linear-gradient(to right,' + bar_stops.join(',') + ')'",))
             html.Div("{{ bar_lo }} .. {{ bar_hi }}", v_show="field != 'color'", id="bar_range")
             html.H4("Inspector", style="margin:8px 0 2px")
-            html.Pre("{{ picked || 'click a body' }}", id="picked", style="white-space:pre-wrap;margin:0")
+            html.Div("{{ picked || 'click a body' }}", id="picked")
+            # each row: the attribute's repr, typed back and assigned by its setter on Enter (inspector.py)
+            with html.Div(v_for="s in inspected", key="s.key"):
+                html.Div("{{ s.title }}", style="margin-top:4px;color:#9cf")
+                _rows("s.rows", "'body-' + s.key.replace(/ /g, '-') + '-' + r.name",
+                      (ctrl.edit_body, "[s.key, r.name, $event.target.value]"))
             html.H4("Engines", style="margin:8px 0 2px")
             with html.Div(id="engines"):
                 with html.Details(v_for="(e, k) in engines", key="k"):
                     html.Summary("{{ e.name }}")
-                    html.Pre("{{ e.attrs }}", style="white-space:pre-wrap;margin:0 0 0 12px;font-size:11px")
+                    _rows("e.rows", "'engine-' + k + '-' + r.name",
+                          (ctrl.edit_engine, "[k, r.name, $event.target.value]"))
             html.H4("Plots ({{ plot_rows }} points)", id="plot_title", v_show="plot_png", style="margin:8px 0 2px")
             html.Img(src=("plot_png",), v_show="plot_png", id="plot", style="width:100%")
     session.view_widget = view
     return server
+
+
+def _rows(rows: str, element_id: str, on_change) -> None:
+    """A table of attribute rows (``{name, value, editable}``, the JS expression ``rows``): an input for an
+    editable value (``on_change`` when Enter is pressed or it loses focus), text otherwise; each input's
+    id is the JS expression ``element_id`` of ``r``."""
+    from trame.widgets import html
+
+    with html.Table(style="font-size:11px;border-spacing:0;width:100%"):
+        with html.Tr(v_for=f"r in {rows}", key="r.name"):
+            html.Td("{{ r.name }}", style="padding-right:4px;white-space:nowrap")
+            with html.Td(style="width:100%"):
+                html.Input(v_if="r.editable", value=("r.value",), id=(element_id,), change=on_change,
+                           style="width:100%;box-sizing:border-box;font-size:11px")
+                html.Span("{{ r.value }}", v_else=True, style="color:#aaa")
 
 
 async def _pump(session: Session, server) -> None:
