@@ -182,3 +182,27 @@ def test_view_listens_only_on_the_host_asked_for(tmp_path, option, listening, no
     finally:
         proc.send_signal(signal.SIGINT)   # Ctrl-C ends `granum --view`
         assert proc.wait(30) == 0
+
+
+def test_lights_shine_at_the_scene_from_yades_positions(scene):
+    """qt.Renderer()'s two lights (on by default) shine from lightPos/light2Pos at the centre of what is
+    drawn, in their colours; a light switched off is left out."""
+    s = Session(O, RENDERER)
+    f = frames.take_frame(O._scene, s.options())
+    lo = np.min([f.sphere_pos.min(axis=0), f.tri_points.reshape(-1, 3).min(axis=0),
+                 f.line_points.reshape(-1, 3).min(axis=0)], axis=0)
+    hi = np.max([f.sphere_pos.max(axis=0), f.tri_points.reshape(-1, 3).max(axis=0),
+                 f.line_points.reshape(-1, 3).max(axis=0)], axis=0)
+    (p1, c1, rgb1), (p2, c2, rgb2) = f.lights
+    assert p1 == (75, 130, 0) and rgb1 == pytest.approx((0.6, 0.6, 0.6))
+    assert p2 == (-130, 75, 30) and rgb2 == pytest.approx((0.5, 0.5, 0.1))
+    np.testing.assert_allclose(c1, (lo + hi) / 2, rtol=1e-6)
+    assert c1 == c2
+    RENDERER.light1 = False
+    RENDERER.light2Color = (1, 0, 0)
+    try:
+        ((p, _, rgb),) = frames.take_frame(O._scene, s.options()).lights
+        assert p == (-130, 75, 30) and rgb == (1, 0, 0)
+    finally:
+        RENDERER.light1 = True
+        RENDERER.light2Color = (0.5, 0.5, 0.1)

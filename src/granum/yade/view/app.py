@@ -32,6 +32,8 @@ from granum.yade.view import frames
 from granum.yade.view.session import Session
 
 _COOKIE = "granum_view_token"
+#: the surfaces' ambient reflection: OpenGL's default ambient light (0.2), in which YADE's lights shine
+AMBIENT = "{ambient: 0.2}"
 #: granum's Vue plugin (granum-view.js), served beside trame-vtk's components
 CLIENT_MODULE = {"serve": {"__granum_view": str(Path(__file__).parent)},
                  "scripts": ["__granum_view/granum-view.js"], "vue_use": ["granum_view"]}
@@ -68,6 +70,8 @@ def frame_state(frame: frames.Frame, previous: frames.Frame | None = None) -> di
         "bar_lo": f"{frame.value_range[0]:.4g}",
         "bar_hi": f"{frame.value_range[1]:.4g}",
     }
+    if previous is None or frame.lights != previous.lights:
+        out["lights"] = [{"position": p, "focalPoint": f, "color": c} for p, f, c in frame.lights]
     if not same("sphere_radius"):
         out["sph_radius"] = typed_array(frame.sphere_radius)
     if not same("sphere_rgb"):
@@ -121,19 +125,24 @@ def token_middleware(token: str):
     return check
 
 
-def sphere_impostors(scale_array: str):
-    """A ``<granum-sphere-impostors>`` element: inside a ``VtkGeometryRepresentation``, its points are drawn
-    as spheres (vtk.js's sphere mapper, one ray-cast triangle per sphere) of radius the point data array
-    named ``scale_array``."""
+def plugin_element(tag: str, **props):
+    """An element of granum's Vue plugin (``granum-view.js``) with its properties ``props`` (a tuple value
+    binds a state expression, as in trame's widgets):
+
+    * ``granum-sphere-impostors`` (``scale_array``), inside a ``VtkGeometryRepresentation``: its points are
+      drawn as spheres (vtk.js's sphere mapper, one ray-cast triangle per sphere) of radius the point data
+      array named ``scale_array``;
+    * ``granum-lights`` (``lights``), inside a ``VtkView``: the scene lights (``frame_state``'s ``lights``)
+      replacing vtk.js's headlight."""
     from trame_client.widgets.core import AbstractElement
 
-    class SphereImpostors(AbstractElement):
-        def __init__(self, **kwargs):
-            super().__init__("granum-sphere-impostors", **kwargs)
+    class PluginElement(AbstractElement):
+        def __init__(self):
+            super().__init__(tag, **props)
             self.server.enable_module(CLIENT_MODULE)
-            self.props += ["scale_array"]
+            self.props += list(props)
 
-    return SphereImpostors(scale_array=scale_array)
+    return PluginElement()
 
 
 def build_server(session: Session, token: str):
@@ -174,8 +183,13 @@ def build_server(session: Session, token: str):
     ctrl.set_dt = lambda text: command("dt", text)
     ctrl.set_dyn_dt = lambda on: command("dynDt", on)
     ctrl.reload = lambda: command("reload")
-    ctrl.edit_body = lambda key, name, text: command("edit_body", key, name, text)
-    ctrl.edit_engine = lambda k, name, text: command("edit_engine", k, name, text)
+
+    def edit_body(key, name, text):
+        command("edit_body", key, name, text)
+
+    def edit_engine(k, name, text):
+        command("edit_engine", k, name, text)
+
     ctrl.reset_camera = lambda: view.reset_camera()
     ctrl.yade_camera = lambda: view.set_camera(session.camera())
     ctrl.on_client_connected.add(lambda **_: session.loop.call_later(0.5, ctrl.yade_camera))
@@ -198,20 +212,22 @@ def build_server(session: Session, token: str):
             with vtkw.VtkView(ref="view", background=("bg", [0.2, 0.2, 0.2]), style="width:100%;height:100%",
                               interactor_events=("events", ["LeftButtonPress"]),
                               LeftButtonPress=(on_press, press)) as view:
-                # spheres: impostors (granum-view.js), sized by the radius array, coloured by the RGB array
-                with vtkw.VtkGeometryRepresentation(mapper=("{colorMode: 2}",)):
-                    sphere_impostors(scale_array="radius")
+                plugin_element("granum-lights", lights=("lights",))
+                # spheres: impostors (granum-view.js), sized by the radius array, coloured by the RGB array;
+                # AMBIENT: the sides away from the lights keep some colour (OpenGL's default ambient light)
+                with vtkw.VtkGeometryRepresentation(mapper=("{colorMode: 2}",), property=(AMBIENT,)):
+                    plugin_element("granum-sphere-impostors", scale_array="radius")
                     with vtkw.VtkPolyData("spheres", points=("sph_points",)):
                         with vtkw.VtkPointData():
                             vtkw.VtkDataArray(registration="setScalars", name="rgb", type="Uint8Array",
                                               number_of_components=("3",), values=("sph_rgb",))
                             vtkw.VtkDataArray(registration="addArray", name="radius", values=("sph_radius",))
-                with vtkw.VtkGeometryRepresentation(mapper=("{colorMode: 2}",)):
+                with vtkw.VtkGeometryRepresentation(mapper=("{colorMode: 2}",), property=(AMBIENT,)):
                     with vtkw.VtkPolyData("triangles", points=("tri_points",), polys=("tri_polys",)):
                         with vtkw.VtkCellData():
                             vtkw.VtkDataArray(registration="setScalars", name="rgb", type="Uint8Array",
                                               number_of_components=("3",), values=("tri_rgb",))
-                with vtkw.VtkGeometryRepresentation(mapper=("{colorMode: 2}",), property=("{lineWidth: 2}",)):
+                with vtkw.VtkGeometryRepresentation(mapper=("{colorMode: 2}",), property=("{lineWidth: 2, lighting: false}",)):
                     with vtkw.VtkPolyData("lines", points=("line_points",), lines=("line_cells",)):
                         with vtkw.VtkCellData():
                             vtkw.VtkDataArray(registration="setScalars", name="rgb", type="Uint8Array",
@@ -247,31 +263,34 @@ def build_server(session: Session, token: str):
             # each row: the attribute's repr, typed back and assigned by its setter on Enter (inspector.py)
             with html.Div(v_for="s in inspected", key="s.key"):
                 html.Div("{{ s.title }}", style="margin-top:4px;color:#9cf")
-                _rows("s.rows", "'body-' + s.key.replace(/ /g, '-') + '-' + r.name",
-                      (ctrl.edit_body, "[s.key, r.name, $event.target.value]"))
+                _rows(server, "s.rows", "'body-' + s.key.replace(/ /g, '-') + '-' + r.name", edit_body,
+                      "s.key, r.name")
             html.H4("Engines", style="margin:8px 0 2px")
             with html.Div(id="engines"):
                 with html.Details(v_for="(e, k) in engines", key="k"):
                     html.Summary("{{ e.name }}")
-                    _rows("e.rows", "'engine-' + k + '-' + r.name",
-                          (ctrl.edit_engine, "[k, r.name, $event.target.value]"))
+                    _rows(server, "e.rows", "'engine-' + k + '-' + r.name", edit_engine, "k, r.name")
             html.H4("Plots ({{ plot_rows }} points)", id="plot_title", v_show="plot_png", style="margin:8px 0 2px")
             html.Img(src=("plot_png",), v_show="plot_png", id="plot", style="width:100%")
     session.view_widget = view
     return server
 
 
-def _rows(rows: str, element_id: str, on_change) -> None:
+def _rows(server, rows: str, element_id: str, on_edit, args: str) -> None:
     """A table of attribute rows (``{name, value, editable}``, the JS expression ``rows``): an input for an
-    editable value (``on_change`` when Enter is pressed or it loses focus), text otherwise; each input's
-    id is the JS expression ``element_id`` of ``r``."""
+    editable value, text otherwise. The input shows the value as its placeholder and starts empty, so the
+    values refreshed while the user types never overwrite the text; Enter (or leaving the field) calls
+    ``on_edit(*args, text)`` (``args``: JS expressions of ``r``) and empties the field again. Each input's
+    id is the JS expression ``element_id``."""
     from trame.widgets import html
 
+    send = f"trigger('{server.trigger_name(on_edit)}', [{args}, $event.target.value]); $event.target.value = ''"
     with html.Table(style="font-size:11px;border-spacing:0;width:100%"):
         with html.Tr(v_for=f"r in {rows}", key="r.name"):
             html.Td("{{ r.name }}", style="padding-right:4px;white-space:nowrap")
             with html.Td(style="width:100%"):
-                html.Input(v_if="r.editable", value=("r.value",), id=(element_id,), change=on_change,
+                html.Input(v_if="r.editable", placeholder=("r.value",), id=(element_id,),
+                           change=f"if ($event.target.value) {{ {send} }}",
                            style="width:100%;box-sizing:border-box;font-size:11px")
                 html.Span("{{ r.value }}", v_else=True, style="color:#aaa")
 

@@ -53,9 +53,39 @@
     template: '<div class="granum-sphere-impostors"></div>',
   };
 
+  // <granum-lights :lights="[{position, focalPoint, color}, ...]">, placed inside a <vtk-view>: the view's
+  // renderer is lit by these lights only (scene lights, fixed in the scene, shining from the position
+  // towards the focal point), instead of vtk.js's automatic headlight.
+  const Lights = {
+    props: { lights: { type: Array, default: () => [] } },
+    setup(props) {
+      const view = window.Vue.inject("view");
+      function light() {
+        const renderer = view.renderer;
+        renderer.setAutomaticLightCreation(false);
+        renderer.removeAllLights();
+        props.lights.forEach(({ position, focalPoint, color }) => {
+          const l = renderer.makeLight();
+          l.setLightTypeToSceneLight();
+          l.setPositional(false);
+          l.setPosition(...position);
+          l.setFocalPoint(...focalPoint);
+          l.setColor(...color);
+          l.setIntensity(1.0);
+          renderer.addLight(l);
+        });
+        view.render();
+      }
+      window.Vue.watch(() => props.lights, light, { immediate: true });
+      return {};
+    },
+    template: '<div class="granum-lights"></div>',
+  };
+
   window.granum_view = {
     install(app) {
       app.component("granum-sphere-impostors", SphereImpostors);
+      app.component("granum-lights", Lights);
     },
   };
 })();

@@ -27,7 +27,8 @@ BUDGET = 0.04
 MIN_INTERVAL, MAX_INTERVAL = 0.1, 5.0
 
 #: renderer options the browser view draws; any other option set away from its default is refused by name
-DRAWN = ("shape", "wire", "bound", "intrPhys", "intrWire", "mask", "ghosts", "dispScale", "cellColor", "bgColor")
+DRAWN = ("shape", "wire", "bound", "intrPhys", "intrWire", "mask", "ghosts", "dispScale", "cellColor", "bgColor",
+         "light1", "lightPos", "lightColor", "light2", "light2Pos", "light2Color")
 
 
 class Session:
@@ -69,8 +70,10 @@ class Session:
             if name not in DRAWN and getattr(r, name) != spec.default:
                 raise NotImplementedError(f"the browser view does not draw qt.Renderer().{name}; set it back to "
                                           f"{spec.default!r} (drawn: {', '.join(DRAWN)})")
+        lights = ((r.light1, r.lightPos, r.lightColor), (r.light2, r.light2Pos, r.light2Color))
         return frames.Options(shape=r.shape, wire=r.wire, bound=r.bound, intrPhys=r.intrPhys, intrWire=r.intrWire,
-                              mask=r.mask, ghosts=r.ghosts, dispScale=tuple(r.dispScale), cellColor=tuple(r.cellColor))
+                              mask=r.mask, ghosts=r.ghosts, dispScale=tuple(r.dispScale), cellColor=tuple(r.cellColor),
+                              lights=tuple((tuple(pos), tuple(rgb)) for on, pos, rgb in lights if on))
 
     def frame(self) -> frames.Frame:
         """A frame of the current scene, taken now."""
