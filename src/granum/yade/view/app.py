@@ -227,7 +227,9 @@ def build_server(session: Session, token: str):
                         with vtkw.VtkCellData():
                             vtkw.VtkDataArray(registration="setScalars", name="rgb", type="Uint8Array",
                                               number_of_components=("3",), values=("tri_rgb",))
-                with vtkw.VtkGeometryRepresentation(mapper=("{colorMode: 2}",), property=("{lineWidth: 2, lighting: false}",)):
+                # lines (wire facets, cell, bounds, force chains): their own colour, unlit
+                with vtkw.VtkGeometryRepresentation(mapper=("{colorMode: 2}",),
+                                                    property=("{lineWidth: 2, lighting: false}",)):
                     with vtkw.VtkPolyData("lines", points=("line_points",), lines=("line_cells",)):
                         with vtkw.VtkCellData():
                             vtkw.VtkDataArray(registration="setScalars", name="rgb", type="Uint8Array",
