@@ -5,7 +5,7 @@ The browser draws everything with vtk.js (WebGL), from arrays the server publish
 state (``{"bvals": base64, "dtype": ...}`` typed arrays, which vtk.js reads without parsing numbers):
 
 * spheres as impostors: one screen-facing triangle per sphere, ray-cast per pixel onto the sphere of
-  the centre and radius given (vtk.js's sphere mapper, enabled by ``granum-view.js``), coloured by its
+  the centre and radius given (vtk.js's sphere mapper, enabled by ``client/granum-view.js``), coloured by its
   RGB: three vertices per sphere, so software WebGL (no GPU) keeps 100,000 spheres moving;
 * facets, boxes and walls as one triangle mesh coloured per triangle; the periodic cell, bounds and
   contact force chains as one set of coloured lines.
@@ -34,8 +34,8 @@ from granum.yade.view.session import Session
 _COOKIE = "granum_view_token"
 #: the surfaces' ambient reflection: OpenGL's default ambient light (0.2), in which YADE's lights shine
 AMBIENT = "{ambient: 0.2}"
-#: granum's Vue plugin (granum-view.js), served beside trame-vtk's components
-CLIENT_MODULE = {"serve": {"__granum_view": str(Path(__file__).parent)},
+#: granum's Vue plugin (client/granum-view.js), served beside trame-vtk's components (only that folder)
+CLIENT_MODULE = {"serve": {"__granum_view": str(Path(__file__).parent / "client")},
                  "scripts": ["__granum_view/granum-view.js"], "vue_use": ["granum_view"]}
 
 
@@ -263,8 +263,8 @@ def build_server(session: Session, token: str):
             html.H4("Inspector", style="margin:8px 0 2px")
             html.Div("{{ picked || 'click a body' }}", id="picked")
             # each row: the attribute's repr, typed back and assigned by its setter on Enter (inspector.py)
-            with html.Div(v_for="s in inspected", key="s.key"):
-                html.Div("{{ s.title }}", style="margin-top:4px;color:#9cf")
+            with html.Details(v_for="s in inspected", key="s.key", open=("s.key == 'state'",)):
+                html.Summary("{{ s.title }}", style="margin-top:4px;color:#9cf")
                 _rows(server, "s.rows", "'body-' + s.key.replace(/ /g, '-') + '-' + r.name", edit_body,
                       "s.key, r.name")
             html.H4("Engines", style="margin:8px 0 2px")
@@ -287,14 +287,15 @@ def _rows(server, rows: str, element_id: str, on_edit, args: str) -> None:
     from trame.widgets import html
 
     send = f"trigger('{server.trigger_name(on_edit)}', [{args}, $event.target.value]); $event.target.value = ''"
-    with html.Table(style="font-size:11px;border-spacing:0;width:100%"):
+    with html.Table(style="font-size:11px;border-spacing:0;width:100%;table-layout:fixed"):
         with html.Tr(v_for=f"r in {rows}", key="r.name"):
-            html.Td("{{ r.name }}", style="padding-right:4px;white-space:nowrap")
-            with html.Td(style="width:100%"):
-                html.Input(v_if="r.editable", placeholder=("r.value",), id=(element_id,),
+            html.Td("{{ r.name }}", style="width:90px;padding-right:4px;overflow:hidden;text-overflow:ellipsis")
+            with html.Td():
+                html.Input(v_if="r.editable", placeholder=("r.value",), id=(element_id,), title=("r.value",),
                            change=f"if ($event.target.value) {{ {send} }}",
                            style="width:100%;box-sizing:border-box;font-size:11px")
-                html.Span("{{ r.value }}", v_else=True, style="color:#aaa")
+                html.Div("{{ r.value }}", v_else=True, title=("r.value",),
+                         style="color:#aaa;overflow:hidden;text-overflow:ellipsis;white-space:nowrap")
 
 
 async def _pump(session: Session, server) -> None:
