@@ -117,3 +117,18 @@ def test_the_inspector_follows_the_picked_body(touching):
     assert head.startswith("id 1: Sphere, FrictMat") and head.endswith("1 contacts")
     O.bodies.erase(1)
     assert s.inspected() == {"picked": "", "inspected": []} and s.picked_id == -1
+
+
+def test_an_attribute_that_cannot_be_read_is_shown_with_its_error():
+    class Odd:
+        @property
+        def broken(self):
+            raise NotImplementedError("granum has no broken")
+
+        @property
+        def fine(self):
+            return 1.5
+
+    assert inspector.property_rows(Odd()) == [
+        {"name": "broken", "value": "<NotImplementedError: granum has no broken>", "editable": False},
+        {"name": "fine", "value": "1.5", "editable": False}]

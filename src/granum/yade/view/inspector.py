@@ -49,7 +49,10 @@ def parse_value(text: str):
 
 
 def _row(obj, name: str, settable: bool) -> dict:
-    value = getattr(obj, name)
+    try:
+        value = getattr(obj, name)
+    except Exception as e:  # noqa: BLE001 - an attribute that cannot be read here: its error is the row's text
+        return {"name": name, "value": f"<{type(e).__name__}: {e}>", "editable": False}
     editable = settable and isinstance(value, EDITABLE_TYPES)
     text = repr(value)
     if not editable and len(text) > 60:   # functor lists, id lists: shown cut, not edited
