@@ -3,7 +3,10 @@
 Not a YADE script: it drives Debian's chromium through selenium (``granum[view]`` and ``selenium``).
 For each size, ``n`` spheres settle in a facet box (tutorial 02's engines); the page is loaded and the
 camera turned for ``BENCH_SECONDS`` seconds, one turn per animation frame: the fps is the number of
-frames drawn per second (vtk.js on Chromium's software WebGL when there is no GPU). Then the simulation
+frames drawn per second (vtk.js on Chromium's software WebGL when there is no GPU). On a machine shared
+with other jobs the fps depends on the load, so the CPU time all of Chromium's processes spent per frame
+is reported too (``chromium_cpu_ms``, with ``fps_one_core``, its inverse: the frame rate with one core
+for Chromium alone), and the load average at the time. Then the simulation
 runs ``BENCH_STEPS`` steps with the page open; ``hook_share`` is the time spent taking frames between
 compiled chunks and publishing them to the page, over the run's time (the view's server-side cost,
 target <= 5 %; ``seconds_with_view`` also includes Chromium drawing on the same cores).
@@ -25,7 +28,7 @@ const seconds = arguments[0];
 let frames = 0;
 const t0 = performance.now();
 function step(now) {
-  if (now - t0 > seconds * 1000) { done(frames / ((now - t0) / 1000)); return; }
+  if (now - t0 > seconds * 1000) { done([frames, (now - t0) / 1000]); return; }
   const a = frames * 0.05, r = Math.hypot(cam.position[0] - cam.focalPoint[0], cam.position[2] - cam.focalPoint[2]);
   const f = cam.focalPoint;
   view.setCamera({position: [f[0] + r * Math.sin(a), cam.position[1], f[2] + r * Math.cos(a)]});
@@ -65,6 +68,20 @@ def scene(n: int) -> None:
     O.dt = 0.5 * utils.PWaveTimeStep()
 
 
+def chromium_cpu_seconds(driver) -> float:
+    """CPU time [s] (user + system) used so far by every process of the browser chromedriver started."""
+    import psutil
+
+    total = 0.0
+    for p in psutil.Process(driver.service.process.pid).children(recursive=True):
+        try:
+            t = p.cpu_times()
+        except psutil.NoSuchProcess:
+            continue
+        total += t.user + t.system
+    return total
+
+
 def main() -> None:
     from selenium import webdriver
 
@@ -75,7 +92,7 @@ def main() -> None:
     steps = int(os.environ.get("BENCH_STEPS", "200"))
     options = webdriver.ChromeOptions()
     for arg in ("--headless=new", "--no-sandbox", "--window-size=1000,700", "--use-angle=swiftshader",
-                "--enable-unsafe-swiftshader"):
+                "--enable-unsafe-swiftshader", *os.environ.get("BENCH_CHROME_FLAGS", "").split()):
         options.add_argument(arg)
     driver = webdriver.Chrome(options=options,
                               service=webdriver.ChromeService(executable_path=shutil.which("chromedriver")))
@@ -95,14 +112,19 @@ def main() -> None:
         while time.monotonic() < end and f"({spheres} spheres)" not in driver.page_source:
             time.sleep(0.2)
         time.sleep(2)
-        fps = driver.execute_async_script(TURN, seconds)
+        cpu0 = chromium_cpu_seconds(driver)
+        drawn, elapsed = driver.execute_async_script(TURN, seconds)
+        cpu_per_frame = (chromium_cpu_seconds(driver) - cpu0) / max(drawn, 1)
+        fps = drawn / elapsed
         session.hook_seconds = session.publish_seconds = 0.0
         taken = session.frames_taken
         t0 = time.perf_counter()
         O.run(steps, True)
         viewed = time.perf_counter() - t0
         share = (session.hook_seconds + session.publish_seconds) / viewed
-        print(f"BENCH name=view_fps spheres={spheres} fps={fps:.3g} steps={steps} seconds_without_view={bare:.4g} "
+        print(f"BENCH name=view_fps spheres={spheres} fps={fps:.3g} chromium_cpu_ms={cpu_per_frame * 1e3:.4g} "
+              f"fps_one_core={1 / cpu_per_frame:.3g} load_average={os.getloadavg()[0]:.3g} steps={steps} "
+              f"seconds_without_view={bare:.4g} "
               f"seconds_with_view={viewed:.4g} server_share={share:.2%} hook_s={session.hook_seconds:.3g} "
               f"publish_s={session.publish_seconds:.3g} frames={session.frames_taken - taken}", flush=True)
         view.close_view()

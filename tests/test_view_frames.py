@@ -131,4 +131,78 @@ def test_engine_list_gives_each_engine_attributes(scene):
     s = Session(O, RENDERER)
     (e,) = s.panel_state()["engines"]
     assert e["name"] == "NewtonIntegrator (newton)"
-    assert "damping = 0.3" in e["attrs"].splitlines()
+    rows = {r["name"]: r for r in e["rows"]}
+    assert rows["damping"] == {"name": "damping", "value": "0.3", "editable": True}
+    assert rows["gravity"]["value"] == "Vector3(0,0,0)"
+
+
+def _served_by_granum_view(tmp_path, *options):
+    """Start ``granum --view [options] script.py`` (an empty scene) and return (process, URL printed)."""
+    import os
+    import subprocess
+    import time
+    from pathlib import Path
+
+    script = tmp_path / "empty.py"
+    script.write_text("print('LOADED')\n")
+    src = str(Path(__file__).resolve().parents[1] / "src")
+    env = {**os.environ, "PYTHONPATH": src + os.pathsep + os.environ.get("PYTHONPATH", ""), "DISPLAY": ""}
+    proc = subprocess.Popen([sys.executable, "-m", "granum", "--view", *options, str(script)], cwd=tmp_path, env=env,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    end = time.monotonic() + 120
+    for line in proc.stderr:
+        if line.startswith("granum view: http"):
+            return proc, line.split()[-1]
+        if time.monotonic() > end:
+            break
+    proc.kill()
+    raise AssertionError(f"granum --view printed no URL (exit status {proc.wait()})")
+
+
+@pytest.mark.parametrize("option, listening, not_listening", [
+    ((), "127.0.0.1", "127.0.0.2"),                                # loopback only by default
+    (("--view-host", "127.0.0.2"), "127.0.0.2", "127.0.0.1"),      # another interface when asked
+])
+def test_view_listens_only_on_the_host_asked_for(tmp_path, option, listening, not_listening):
+    import signal
+    import urllib.error
+    import urllib.request
+
+    proc, url = _served_by_granum_view(tmp_path, *option)
+    try:
+        assert url.startswith(f"http://{listening}:")
+        port = url.split(":")[2].split("/")[0]
+        assert urllib.request.urlopen(url, timeout=10).status == 200
+        with pytest.raises(urllib.error.HTTPError) as refused:      # the token is needed on every interface
+            urllib.request.urlopen(f"http://{listening}:{port}/", timeout=10)
+        assert refused.value.code == 403
+        with pytest.raises(urllib.error.URLError) as closed:         # nothing listens on the other address
+            urllib.request.urlopen(url.replace(listening, not_listening), timeout=10)
+        assert isinstance(closed.value.reason, ConnectionRefusedError)
+    finally:
+        proc.send_signal(signal.SIGINT)   # Ctrl-C ends `granum --view`
+        assert proc.wait(30) == 0
+
+
+def test_lights_shine_at_the_scene_from_yades_positions(scene):
+    """qt.Renderer()'s two lights (on by default) shine from lightPos/light2Pos at the centre of what is
+    drawn, in their colours; a light switched off is left out."""
+    s = Session(O, RENDERER)
+    f = frames.take_frame(O._scene, s.options())
+    lo = np.min([f.sphere_pos.min(axis=0), f.tri_points.reshape(-1, 3).min(axis=0),
+                 f.line_points.reshape(-1, 3).min(axis=0)], axis=0)
+    hi = np.max([f.sphere_pos.max(axis=0), f.tri_points.reshape(-1, 3).max(axis=0),
+                 f.line_points.reshape(-1, 3).max(axis=0)], axis=0)
+    (p1, c1, rgb1), (p2, c2, rgb2) = f.lights
+    assert p1 == (75, 130, 0) and rgb1 == pytest.approx((0.6, 0.6, 0.6))
+    assert p2 == (-130, 75, 30) and rgb2 == pytest.approx((0.5, 0.5, 0.1))
+    np.testing.assert_allclose(c1, (lo + hi) / 2, rtol=1e-6)
+    assert c1 == c2
+    RENDERER.light1 = False
+    RENDERER.light2Color = (1, 0, 0)
+    try:
+        ((p, _, rgb),) = frames.take_frame(O._scene, s.options()).lights
+        assert p == (-130, 75, 30) and rgb == (1, 0, 0)
+    finally:
+        RENDERER.light1 = True
+        RENDERER.light2Color = (0.5, 0.5, 0.1)

@@ -4,8 +4,9 @@ and the live plots.
 The browser draws everything with vtk.js (WebGL), from arrays the server publishes in trame's shared
 state (``{"bvals": base64, "dtype": ...}`` typed arrays, which vtk.js reads without parsing numbers):
 
-* spheres through one ``vtkGlyph3DMapper`` (a sphere source instanced at each centre, scaled by its
-  radius, coloured by its RGB): one draw call, so 100,000 spheres stay interactive;
+* spheres as impostors: one screen-facing triangle per sphere, ray-cast per pixel onto the sphere of
+  the centre and radius given (vtk.js's sphere mapper, enabled by ``client/granum-view.js``), coloured by its
+  RGB: three vertices per sphere, so software WebGL (no GPU) keeps 100,000 spheres moving;
 * facets, boxes and walls as one triangle mesh coloured per triangle; the periodic cell, bounds and
   contact force chains as one set of coloured lines.
 
@@ -23,6 +24,7 @@ import hmac
 import io
 import threading
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -30,8 +32,11 @@ from granum.yade.view import frames
 from granum.yade.view.session import Session
 
 _COOKIE = "granum_view_token"
-#: up to this many spheres, the glyph is a finely faceted sphere; beyond, a coarse one (about 5x fewer triangles)
-ROUND_SPHERES = 5000
+#: the surfaces' ambient reflection: OpenGL's default ambient light (0.2), in which YADE's lights shine
+AMBIENT = "{ambient: 0.2}"
+#: granum's Vue plugin (client/granum-view.js), served beside trame-vtk's components (only that folder)
+CLIENT_MODULE = {"serve": {"__granum_view": str(Path(__file__).parent / "client")},
+                 "scripts": ["__granum_view/granum-view.js"], "vue_use": ["granum_view"]}
 
 
 def typed_array(a: np.ndarray) -> dict | list:
@@ -60,13 +65,13 @@ def frame_state(frame: frames.Frame, previous: frames.Frame | None = None) -> di
         "tri_points": typed_array(frame.tri_points.ravel()),
         "line_points": typed_array(frame.line_points.ravel()),
         "n_spheres": int(len(frame.sphere_ids)),
-        # the sphere glyph's facets: round when few, coarse when many (each sphere draws them all)
-        "sph_res": [16, 16] if len(frame.sphere_ids) <= ROUND_SPHERES else [6, 8],
         "iter": frame.iter,
         "sim_time": f"{frame.time:.6g}",
         "bar_lo": f"{frame.value_range[0]:.4g}",
         "bar_hi": f"{frame.value_range[1]:.4g}",
     }
+    if previous is None or frame.lights != previous.lights:
+        out["lights"] = [{"position": p, "focalPoint": f, "color": c} for p, f, c in frame.lights]
     if not same("sphere_radius"):
         out["sph_radius"] = typed_array(frame.sphere_radius)
     if not same("sphere_rgb"):
@@ -120,6 +125,26 @@ def token_middleware(token: str):
     return check
 
 
+def plugin_element(tag: str, **props):
+    """An element of granum's Vue plugin (``granum-view.js``) with its properties ``props`` (a tuple value
+    binds a state expression, as in trame's widgets):
+
+    * ``granum-sphere-impostors`` (``scale_array``), inside a ``VtkGeometryRepresentation``: its points are
+      drawn as spheres (vtk.js's sphere mapper, one ray-cast triangle per sphere) of radius the point data
+      array named ``scale_array``;
+    * ``granum-lights`` (``lights``), inside a ``VtkView``: the scene lights (``frame_state``'s ``lights``)
+      replacing vtk.js's headlight."""
+    from trame_client.widgets.core import AbstractElement
+
+    class PluginElement(AbstractElement):
+        def __init__(self):
+            super().__init__(tag, **props)
+            self.server.enable_module(CLIENT_MODULE)
+            self.props += list(props)
+
+    return PluginElement()
+
+
 def build_server(session: Session, token: str):
     """The trame server with the page's layout and callbacks, bound to ``session``."""
     from trame.app import get_server
@@ -136,7 +161,7 @@ def build_server(session: Session, token: str):
     state.update(frame_state(session.frame()))
     state.update(session.panel_state())
     state.update({"field": session.field, "fields": list(frames.FIELDS), "bar_stops": frames.colormap_stops(),
-                  "run_n": 100, "dt_text": "", "picked": "", "plot_png": "", "plot_rows": 0,
+                  "run_n": 100, "dt_text": "", "plot_png": "", "plot_rows": 0,
                   "message": ""})
 
     @ctrl.add("on_server_bind")
@@ -158,13 +183,20 @@ def build_server(session: Session, token: str):
     ctrl.set_dt = lambda text: command("dt", text)
     ctrl.set_dyn_dt = lambda on: command("dynDt", on)
     ctrl.reload = lambda: command("reload")
+
+    def edit_body(key, name, text):
+        command("edit_body", key, name, text)
+
+    def edit_engine(k, name, text):
+        command("edit_engine", k, name, text)
+
     ctrl.reset_camera = lambda: view.reset_camera()
     ctrl.yade_camera = lambda: view.set_camera(session.camera())
     ctrl.on_client_connected.add(lambda **_: session.loop.call_later(0.5, ctrl.yade_camera))
 
     def on_press(position, camera, size):
         """A press of the left button on the view: the inspector shows the body under it."""
-        state.picked = session.pick(*click_ray(position, camera, size))
+        state.update(session.pick(*click_ray(position, camera, size)))
 
     @state.change("field")
     def field_changed(field, **_):
@@ -180,22 +212,24 @@ def build_server(session: Session, token: str):
             with vtkw.VtkView(ref="view", background=("bg", [0.2, 0.2, 0.2]), style="width:100%;height:100%",
                               interactor_events=("events", ["LeftButtonPress"]),
                               LeftButtonPress=(on_press, press)) as view:
-                with vtkw.VtkGlyphRepresentation(
-                        mapper=("{scaleArray: 'radius', scaleMode: 1, scaleFactor: 1, scalarVisibility: true,"
-                                " colorMode: 2}",)):
-                    vtkw.VtkAlgorithm(vtk_class="vtkSphereSource", port=1,
-                                      state=("{radius: 1, phiResolution: sph_res[0], thetaResolution: sph_res[1]}",))
-                    with vtkw.VtkPolyData("spheres", port=0, points=("sph_points",), connectivity="points"):
+                plugin_element("granum-lights", lights=("lights",))
+                # spheres: impostors (granum-view.js), sized by the radius array, coloured by the RGB array;
+                # AMBIENT: the sides away from the lights keep some colour (OpenGL's default ambient light)
+                with vtkw.VtkGeometryRepresentation(mapper=("{colorMode: 2}",), property=(AMBIENT,)):
+                    plugin_element("granum-sphere-impostors", scale_array="radius")
+                    with vtkw.VtkPolyData("spheres", points=("sph_points",)):
                         with vtkw.VtkPointData():
                             vtkw.VtkDataArray(registration="setScalars", name="rgb", type="Uint8Array",
                                               number_of_components=("3",), values=("sph_rgb",))
                             vtkw.VtkDataArray(registration="addArray", name="radius", values=("sph_radius",))
-                with vtkw.VtkGeometryRepresentation(mapper=("{colorMode: 2}",)):
+                with vtkw.VtkGeometryRepresentation(mapper=("{colorMode: 2}",), property=(AMBIENT,)):
                     with vtkw.VtkPolyData("triangles", points=("tri_points",), polys=("tri_polys",)):
                         with vtkw.VtkCellData():
                             vtkw.VtkDataArray(registration="setScalars", name="rgb", type="Uint8Array",
                                               number_of_components=("3",), values=("tri_rgb",))
-                with vtkw.VtkGeometryRepresentation(mapper=("{colorMode: 2}",), property=("{lineWidth: 2}",)):
+                # lines (wire facets, cell, bounds, force chains): their own colour, unlit
+                with vtkw.VtkGeometryRepresentation(mapper=("{colorMode: 2}",),
+                                                    property=("{lineWidth: 2, lighting: false}",)):
                     with vtkw.VtkPolyData("lines", points=("line_points",), lines=("line_cells",)):
                         with vtkw.VtkCellData():
                             vtkw.VtkDataArray(registration="setScalars", name="rgb", type="Uint8Array",
@@ -227,16 +261,41 @@ def build_server(session: Session, token: str):
                      style=("'height:12px;background:linear-gradient(to right,' + bar_stops.join(',') + ')'",))
             html.Div("{{ bar_lo }} .. {{ bar_hi }}", v_show="field != 'color'", id="bar_range")
             html.H4("Inspector", style="margin:8px 0 2px")
-            html.Pre("{{ picked || 'click a body' }}", id="picked", style="white-space:pre-wrap;margin:0")
+            html.Div("{{ picked || 'click a body' }}", id="picked")
+            # each row: the attribute's repr, typed back and assigned by its setter on Enter (inspector.py)
+            with html.Details(v_for="s in inspected", key="s.key", open=("s.key == 'state'",)):
+                html.Summary("{{ s.title }}", style="margin-top:4px;color:#9cf")
+                _rows(server, "s.rows", "'body-' + s.key.replace(/ /g, '-') + '-' + r.name", edit_body,
+                      "s.key, r.name")
             html.H4("Engines", style="margin:8px 0 2px")
             with html.Div(id="engines"):
                 with html.Details(v_for="(e, k) in engines", key="k"):
                     html.Summary("{{ e.name }}")
-                    html.Pre("{{ e.attrs }}", style="white-space:pre-wrap;margin:0 0 0 12px;font-size:11px")
+                    _rows(server, "e.rows", "'engine-' + k + '-' + r.name", edit_engine, "k, r.name")
             html.H4("Plots ({{ plot_rows }} points)", id="plot_title", v_show="plot_png", style="margin:8px 0 2px")
             html.Img(src=("plot_png",), v_show="plot_png", id="plot", style="width:100%")
     session.view_widget = view
     return server
+
+
+def _rows(server, rows: str, element_id: str, on_edit, args: str) -> None:
+    """A table of attribute rows (``{name, value, editable}``, the JS expression ``rows``): an input for an
+    editable value, text otherwise. The input shows the value as its placeholder and starts empty, so the
+    values refreshed while the user types never overwrite the text; Enter (or leaving the field) calls
+    ``on_edit(*args, text)`` (``args``: JS expressions of ``r``) and empties the field again. Each input's
+    id is the JS expression ``element_id``."""
+    from trame.widgets import html
+
+    send = f"trigger('{server.trigger_name(on_edit)}', [{args}, $event.target.value]); $event.target.value = ''"
+    with html.Table(style="font-size:11px;border-spacing:0;width:100%;table-layout:fixed"):
+        with html.Tr(v_for=f"r in {rows}", key="r.name"):
+            html.Td("{{ r.name }}", style="width:90px;padding-right:4px;overflow:hidden;text-overflow:ellipsis")
+            with html.Td():
+                html.Input(v_if="r.editable", placeholder=("r.value",), id=(element_id,), title=("r.value",),
+                           change=f"if ($event.target.value) {{ {send} }}",
+                           style="width:100%;box-sizing:border-box;font-size:11px")
+                html.Div("{{ r.value }}", v_else=True, title=("r.value",),
+                         style="color:#aaa;overflow:hidden;text-overflow:ellipsis;white-space:nowrap")
 
 
 async def _pump(session: Session, server) -> None:

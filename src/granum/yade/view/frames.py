@@ -1,7 +1,7 @@
 """What the browser view draws, taken from the scene's arrays in one go (NumPy only, no web library).
 
 A :class:`Frame` is a copy of everything the page needs for one picture: sphere centres, radii and
-colours (drawn as instanced glyphs), the triangles of facets, boxes and walls, and line segments
+colours (drawn as sphere impostors), the triangles of facets, boxes and walls, and line segments
 (periodic cell, bounding boxes, contacts). :func:`take_frame` builds it with whole-column operations, so a
 frame of 100,000 spheres costs a few milliseconds; it is called between compiled chunks of a run (never
 inside the step loop) or while the simulation is idle.
@@ -42,6 +42,7 @@ class Frame(NamedTuple):
     line_rgb: np.ndarray         # (L, 3) uint8 colours
     field: str                   # what colours the bodies (one of FIELDS)
     value_range: tuple[float, float]  # the scalar field's range mapped onto the colour bar (0, 0 for "color")
+    lights: tuple = ()           # ((position, focal point, RGB), ...) of the lights on, shining at the centre
 
 
 class Options(NamedTuple):
@@ -56,6 +57,8 @@ class Options(NamedTuple):
     ghosts: bool = True
     dispScale: tuple = (1.0, 1.0, 1.0)
     cellColor: tuple = (1.0, 1.0, 0.0)
+    #: the lights on, ((position [m], RGB in [0, 1]), ...): YADE's light1/lightPos/lightColor and light2/...
+    lights: tuple = ()
 
 
 def _rgb(colors: np.ndarray) -> np.ndarray:
@@ -198,14 +201,26 @@ def take_frame(scene, options: Options | None = None, field: str = "color") -> F
     def stack(parts, shape, dtype):
         return np.concatenate(parts).astype(dtype) if parts else np.zeros((0, *shape), dtype)
 
+    tri_points, line_points = stack(tris, (3, 3), np.float32), stack(lines, (2, 3), np.float32)
     return Frame(
         iter=int(scene.iter), time=float(scene.time), sphere_ids=spheres,
         sphere_pos=sphere_pos.astype(np.float32),
         sphere_radius=radius.astype(np.float32),
         sphere_rgb=colors[rows[spheres]],
-        tri_points=stack(tris, (3, 3), np.float32), tri_rgb=stack(tri_rgb, (3,), np.uint8),
-        line_points=stack(lines, (2, 3), np.float32), line_rgb=stack(line_rgb, (3,), np.uint8),
-        field=field, value_range=value_range)
+        tri_points=tri_points, tri_rgb=stack(tri_rgb, (3,), np.uint8),
+        line_points=line_points, line_rgb=stack(line_rgb, (3,), np.uint8),
+        field=field, value_range=value_range,
+        lights=_aimed(options.lights, [sphere_pos, tri_points.reshape(-1, 3), line_points.reshape(-1, 3)]))
+
+
+def _aimed(lights, points) -> tuple:
+    """``lights`` ((position, RGB), ...) as ((position, focal point, RGB), ...), each shining from its
+    position at the centre of the box around ``points`` (arrays of (M, 3)): YADE's lights are points far
+    from the scene (75 to 1500 m in its examples), whose rays are nearly parallel across it."""
+    points = [p for p in points if len(p)]
+    centre = ((np.min([p.min(axis=0) for p in points], axis=0) + np.max([p.max(axis=0) for p in points], axis=0)) / 2
+              if points else np.zeros(3))
+    return tuple((tuple(map(float, pos)), tuple(map(float, centre)), tuple(map(float, rgb))) for pos, rgb in lights)
 
 
 def _with_ghosts(scene, ids, pos, radius):

@@ -6,8 +6,8 @@ Frames come from the scene's arrays at two moments only: between compiled chunks
 server's own polling. The step loop itself is never entered. :attr:`Session.hook_seconds` adds up the time
 the hook takes, for the overhead measure (``benchmarks/view_fps.py``).
 
-Commands from the page (play, pause, step, run N, O.dt) run on one worker thread, in order, so the
-web server's event loop never waits for a step.
+Commands from the page (play, pause, step, run N, O.dt, edits in the inspector and the engine list) run
+on one worker thread, in order, so the web server's event loop never waits for a step.
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-from granum.yade.view import frames
+from granum.yade.view import frames, inspector
 
 #: the largest share of the run's wall time the view may take (frames and publishing them, server side)
 BUDGET = 0.04
@@ -27,17 +27,8 @@ BUDGET = 0.04
 MIN_INTERVAL, MAX_INTERVAL = 0.1, 5.0
 
 #: renderer options the browser view draws; any other option set away from its default is refused by name
-DRAWN = ("shape", "wire", "bound", "intrPhys", "intrWire", "mask", "ghosts", "dispScale", "cellColor", "bgColor")
-
-
-def engine_attributes(engine) -> str:
-    """``name = value`` lines of an engine's declared attributes (the inspector's engine list); long values
-    (functor lists, id lists) are cut."""
-    def short(value):
-        text = repr(value)
-        return text if len(text) <= 60 else text[:57] + "..."
-
-    return "\n".join(f"{name} = {short(getattr(engine, name))}" for name in type(engine)._attrs)
+DRAWN = ("shape", "wire", "bound", "intrPhys", "intrWire", "mask", "ghosts", "dispScale", "cellColor", "bgColor",
+         "light1", "lightPos", "lightColor", "light2", "light2Pos", "light2Color")
 
 
 class Session:
@@ -79,8 +70,10 @@ class Session:
             if name not in DRAWN and getattr(r, name) != spec.default:
                 raise NotImplementedError(f"the browser view does not draw qt.Renderer().{name}; set it back to "
                                           f"{spec.default!r} (drawn: {', '.join(DRAWN)})")
+        lights = ((r.light1, r.lightPos, r.lightColor), (r.light2, r.light2Pos, r.light2Color))
         return frames.Options(shape=r.shape, wire=r.wire, bound=r.bound, intrPhys=r.intrPhys, intrWire=r.intrWire,
-                              mask=r.mask, ghosts=r.ghosts, dispScale=tuple(r.dispScale), cellColor=tuple(r.cellColor))
+                              mask=r.mask, ghosts=r.ghosts, dispScale=tuple(r.dispScale), cellColor=tuple(r.cellColor),
+                              lights=tuple((tuple(pos), tuple(rgb)) for on, pos, rgb in lights if on))
 
     def frame(self) -> frames.Frame:
         """A frame of the current scene, taken now."""
@@ -164,8 +157,9 @@ class Session:
 
         return {"running": bool(O.running), "dt": f"{O.dt:.6g}", "bg": list(map(float, self.renderer.bgColor)),
                 "speed": f"{O.speed:.4g} steps/s",
-                "engines": [{"name": line(e), "attrs": engine_attributes(e)} for e in O.engines],
-                "dyn_dt": bool(O.dynDt), "dyn_dt_available": bool(O.dynDtAvailable), "message": self.message}
+                "engines": [{"name": line(e), "rows": inspector.declared_rows(e)} for e in O.engines],
+                "dyn_dt": bool(O.dynDt), "dyn_dt_available": bool(O.dynDtAvailable), "message": self.message,
+                **self.inspected()}
 
     def poll(self) -> dict:
         """What changed since the last poll, as shared-state entries (called on the server's loop)."""
@@ -183,31 +177,34 @@ class Session:
         update.update(self._plot_update())
         return update
 
-    def pick(self, origin, direction) -> str:
-        """Inspector text of the sphere of the frame shown that the ray clicked hits first ("" if none)."""
+    def pick(self, origin, direction) -> dict:
+        """The inspector's state entries for the sphere of the frame shown that the ray clicked hits first
+        (none picked if it hits nothing)."""
         f = self._shown
-        i = frames.pick(f, origin, direction) if f is not None else -1
-        self.picked_id = i
-        return self.describe(i) if i >= 0 else ""
+        self.picked_id = frames.pick(f, origin, direction) if f is not None else -1
+        return self.inspected()
 
-    def describe(self, i: int) -> str:
-        """The inspector's text for body ``i``: id, position, velocity, shape, material, contacts."""
-        b = self.omega.bodies[i]
-        pos = tuple(b.state.pos)
-        vel = tuple(b.state.vel)
-        lines = [f"id {i}", "pos " + " ".join(f"{x:.6g}" for x in pos), "vel " + " ".join(f"{x:.6g}" for x in vel),
-                 f"shape {type(b.shape).__name__}" + (f" r={b.shape.radius:.6g}" if hasattr(b.shape, "radius") else ""),
-                 f"material {type(b.mat).__name__} ({b.mat.label or b.mat.id})",
-                 f"mass {b.state.mass:.6g}", f"contacts {len(b.intrs())}"]
-        return "\n".join(lines)
+    def inspected(self) -> dict:
+        """The inspector's state entries: ``picked`` (a line naming the picked body, "" if none) and
+        ``inspected`` (its sections of editable rows, :func:`inspector.body_sections`)."""
+        i = self.picked_id
+        b = self.omega.bodies[i] if 0 <= i < len(self.omega.bodies) else None
+        if b is None:
+            self.picked_id = -1
+            return {"picked": "", "inspected": []}
+        head = (f"id {i}: {type(b.shape).__name__}, {type(b.mat).__name__} {b.mat.label or b.mat.id}, "
+                f"mass {b.state.mass:.6g}, {len(b.intrs())} contacts")
+        return {"picked": head, "inspected": inspector.body_sections(self.omega, i)}
 
     # ---- controller ----------------------------------------------------------------------------
     def command(self, name: str, *args) -> None:
-        """Queue a controller command (play, pause, step, run N, dt, dynDt, reload) on the worker thread."""
+        """Queue a controller command (play, pause, step, run N, dt, dynDt, reload, edit_body (section key,
+        attribute, text), edit_engine (index in O.engines, attribute, text)) on the worker thread."""
         self._worker.submit(self._run_command, name, *args)
 
     def _run_command(self, name: str, *args) -> None:
         O = self.omega
+        where = name
         try:
             if name == "play":
                 O.run()
@@ -230,9 +227,17 @@ class Session:
                 O.pause()
                 O.wait()
                 O.reload()
+            elif name == "edit_body":
+                key, attr, text = args
+                where = f"{inspector.path(self.picked_id, key)}.{attr} = {text}"
+                inspector.assign(inspector.resolve(O, self.picked_id, key), attr, text)
+            elif name == "edit_engine":
+                k, attr, text = args
+                where = f"O.engines[{k}].{attr} = {text}"
+                inspector.assign(O.engines[int(k)], attr, text)
             self.message = ""
         except Exception as e:  # noqa: BLE001 - shown in the page, where the user clicked
-            self.message = f"{name}: {e}"
+            self.message = f"{where}: {e}"
         self._idle_key = None
 
     # ---- live plots ----------------------------------------------------------------------------
