@@ -33,7 +33,7 @@ def assert_close(got, want, where: str, rtol: float, atol: float = 0.0) -> None:
     elif isinstance(want, list):
         assert len(got) == len(want), f"{where}: {len(got)} items, YADE {len(want)}"
         scale = max((abs(x) for x in want if isinstance(x, float)), default=0.0)
-        for k, (g, w) in enumerate(zip(got, want)):
+        for k, (g, w) in enumerate(zip(got, want, strict=True)):
             if isinstance(w, float) and isinstance(g, float):
                 assert g == pytest.approx(w, rel=rtol, abs=max(rtol * scale, atol), nan_ok=True), \
                     f"{where}[{k}]: {g} vs {w}"

@@ -20,7 +20,6 @@ from granum.physics.registry import Functor, Param
 from granum.physics.scgeom import scgeom_write
 from granum.physics.vec import add, dot, load3, load4, norm, quat_rotate, scale, sub
 
-
 #: a flat body's reference radius in sphere radii with ``hertzian`` (YADE's: nearly infinite, finite for R*)
 HERTZIAN_RADIUS = 1e8
 
