@@ -23,6 +23,7 @@ from granum.physics.vec import add, dot, load3, load4, norm, quat_rotate, scale,
 #: a flat body's reference radius in sphere radii with ``hertzian`` (YADE's: nearly infinite, finite for R*)
 HERTZIAN_RADIUS = 1e8
 
+
 @jit
 def facet_vertex(i, k, S):
     """Global position of vertex ``k`` of facet body ``i`` [m]."""
