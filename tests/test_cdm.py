@@ -102,17 +102,18 @@ def test_yades_check_script_passes_and_agrees_with_yade(yade):
         assert_close(got, want, f"contact {want['ids']}", rtol=1e-10, atol=1e-12 * abs(want["normalForce"][2]))
 
 
-def _pair(y, mat1, mat2, delta, r1=0.1, r2=0.15, ip2s=None, law=None):
-    """Two fixed spheres (radii r1, r2) overlapping by delta, the CDM functors, dt 1e-6; one step."""
+def _pair(y, mat1, mat2, delta, r1=0.1, r2=0.15, geom=None):
+    """Two fixed spheres (radii r1, r2) overlapping by delta, the CDM functors (``geom``: the geometry functor,
+    default Ig2_Sphere_Sphere_ScGeom), dt 1e-6; one step."""
     m1 = y.O.materials.append(mat1)
     m2 = m1 if mat2 is mat1 else y.O.materials.append(mat2)
     y.O.bodies.append([y.sphere((0, 0, 0), r1, material=m1, fixed=True),
                        y.sphere((r1 + r2 - delta, 0, 0), r2, material=m2, fixed=True)])
     y.O.engines = [y.ForceResetter(), y.InsertionSortCollider([y.Bo1_Sphere_Aabb()]),
-                   y.InteractionLoop([y.Ig2_Sphere_Sphere_ScGeom()],
-                                     ip2s or [y.Ip2_FrictMatCDM_FrictMatCDM_MindlinPhysCDM(),
-                                              y.Ip2_FrictMat_FrictMatCDM_MindlinPhysCDM()],
-                                     [law or y.Law2_ScGeom_MindlinPhysCDM_HertzMindlinCDM()]),
+                   y.InteractionLoop([geom or y.Ig2_Sphere_Sphere_ScGeom()],
+                                     [y.Ip2_FrictMatCDM_FrictMatCDM_MindlinPhysCDM(),
+                                      y.Ip2_FrictMat_FrictMatCDM_MindlinPhysCDM()],
+                                     [y.Law2_ScGeom_MindlinPhysCDM_HertzMindlinCDM()]),
                    y.NewtonIntegrator(damping=0)]
     y.O.dt = 1e-6
     y.O.step()
@@ -299,3 +300,12 @@ def test_a_strength_not_below_e_star_is_refused_before_the_run(yade, sigma_max):
 def test_ratios_without_contacts_are_nan(yade):
     law = yade.Law2_ScGeom_MindlinPhysCDM_HertzMindlinCDM()
     assert math.isnan(law.ratioYieldingContacts()) and math.isnan(law.ratioSlidingContacts())
+
+
+def test_the_law_on_an_scgeom6d_is_refused_naming_the_histories(yade):
+    """MindlinPhysCDM's columns are those ScGeom6D's share (no cohesive pool widens for this law): the
+    combination is refused before the run, naming both."""
+    mat = yade.FrictMatCDM(young=E1, poisson=NU1, sigmaMax=2e6)
+    with pytest.raises(ValueError, match="'cdm'.*'scgeom6d'|'scgeom6d'.*'cdm'"):
+        _pair(yade, mat, mat, delta=1e-4, r2=R1, geom=yade.Ig2_Sphere_Sphere_ScGeom6D())
+    assert yade.O.iter == 0
