@@ -41,17 +41,18 @@ with the mean contact pressure sigma = F_n / (pi R delta_el) (= F_n / (pi a^2), 
     \\mu = \\mu_0 + \\frac{c_1}{1 + c_2\\, \\sigma},\\qquad |F_s| \\le \\mu F_n
 
 (c1 = 0: constant mu_0; c2 = 0: mu_0 + c1). This law has no damping, adhesion, moments or energies
-(as YADE's). The formulas were measured on YADE 2023.02a bit for bit (tests/reference/yade/cdm.py),
-including what YADE refuses, which it does by aborting: sigma_max >= E* of the pair (also YADE's default
+(as YADE's). The formulas were measured on YADE 2023.02a (tests/reference/yade/cdm.py: granum agrees to
+1e-10), with what YADE refuses, which it does by aborting: sigma_max >= E* of the pair (also YADE's default
 1e99, which its documentation says switches the model off), sigma_max <= 0 and alpha outside (0, pi/2).
 
-References:
-    C. Harkness, M. Zakharov, H. Lindsay (2016), An analysis of the conical damage model (CDM),
-    *Granular Matter* 18:1-? (conical damage model). B. Suhr, K. Six (2016), On the effect of stress
-    dependent interparticle friction in direct shear tests, *Powder Technol.* 294:211-220.
-    B. Suhr, K. Six (2017), Friction phenomena and their impact on the shear behaviour of granular
-    material, *Comp. Part. Mech.* 4:23-34. YADE class reference: FrictMatCDM, MindlinPhysCDM,
-    Law2_ScGeom_MindlinPhysCDM_HertzMindlinCDM.
+References (as YADE's class documentation cites them; the papers were not at hand, the formulas above are
+YADE 2023.02a's, measured):
+    J. Harkness, A. Zervos, L. Le Pen, S. Aingaran, W. Powrie (2016), Discrete element simulation of railway
+    ballast: modelling cell pressure effects in triaxial tests, *Granular Matter* 18:65 (the conical damage
+    model). B. Suhr, K. Six (2016), On the effect of stress dependent interparticle friction in direct shear
+    tests, *Powder Technol.* 294:211-220. B. Suhr, K. Six (2017), Parametrisation of a DEM model for railway
+    ballast under different load cases, *Granular Matter* 19:64. YADE class reference: FrictMatCDM,
+    MindlinPhysCDM, Law2_ScGeom_MindlinPhysCDM_HertzMindlinCDM.
 """
 
 from __future__ import annotations
