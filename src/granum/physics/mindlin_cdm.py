@@ -304,10 +304,11 @@ def law_cdm(c, id1, id2, S, C, prm):
         f[c, F_KN] = 0.0
         f[c, F_KS] = 0.0
         return True
-    e_star = f[c, F_CDM_E]
-    fn = 4.0 / 3.0 * e_star * math.sqrt(r) * d_el ** 1.5
-    kn = fn / d_el
-    ks = 8.0 * f[c, F_CDM_G] * math.sqrt(r * d_el)
+    sqrt_r = math.sqrt(r)
+    sqrt_d = math.sqrt(d_el)
+    kn = 4.0 / 3.0 * f[c, F_CDM_E] * sqrt_r * sqrt_d   # F_n / delta_el
+    fn = kn * d_el
+    ks = 8.0 * f[c, F_CDM_G] * sqrt_r * sqrt_d
     f[c, F_KN] = kn
     f[c, F_KS] = ks
     n = load_row(f, c, F_NORMAL)
@@ -317,7 +318,7 @@ def law_cdm(c, id1, id2, S, C, prm):
     v = scgeom_incident_vel(c, id1, id2, S, C, shift, shift_vel, scgeom_ratchet(c, C))
     vs = sub(v, scale(n, dot(v, n)))
     fs = add(fs, scale(vs, -ks * S.scal[S_DT]))
-    sigma = fn / (math.pi * r * d_el)   # the mean pressure F_n / (pi a^2)
+    sigma = kn / (math.pi * r)   # the mean pressure F_n / (pi a^2), a^2 = R delta_el
     mu = f[c, F_MU0] + f[c, F_C1] / (1.0 + f[c, F_C2] * sigma)
     f[c, F_TANPHI] = mu
     max_fs = fn * mu
