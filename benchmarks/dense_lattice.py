@@ -16,7 +16,11 @@
 # Law2_ScGeom_CpmPhys_Cpm and Cundall-Strack for the box);
 # BENCH_LAW=viscel_rolling: the visco-elastic law with rolling resistance, ViscElMat with the same density and
 # friction, tc=1e-3, en=.5, et=.5, mR=.05, mRtype=2, Ip2_ViscElMat_ViscElMat_ViscElPhys and
-# Law2_ScGeom_ViscElPhys_Basic),
+# Law2_ScGeom_ViscElPhys_Basic);
+# BENCH_LAW=cdm: the extended Hertz-Mindlin law (conical damage, pressure-dependent friction), FrictMatCDM with the
+# same moduli, density and friction, sigmaMax=1e6 (below the lattice's Hertzian peak pressure, about 1.6e6 Pa: the
+# contacts are crushed from the first step), alpha=1.2, c1=0.1, c2=1e-6, for spheres and facets,
+# Ip2_FrictMatCDM_FrictMatCDM_MindlinPhysCDM and Law2_ScGeom_MindlinPhysCDM_HertzMindlinCDM),
 # NewtonIntegrator(damping=0.2, gravity -z), O.dt = 0.5*PWaveTimeStep().
 # At n = 20: 8,000 spheres and about 25,000 contacts (3 n^2 (n-1) sphere-sphere + walls).
 #
@@ -26,7 +30,7 @@
 # write the sphere positions and angular velocities to path (one line "x y z wx wy wz" per
 # sphere, %.17g) to check bitwise determinism across thread counts and runs. BENCH_NAME overrides
 # the name printed (benchmarks/run uses scaling_N, dense_lattice_mindlin, cohesive_lattice).
-# BENCH_LAW: the contact law (mindlin, cohesive, cpm, viscel_rolling; user: Cundall-Strack as a user's law,
+# BENCH_LAW: the contact law (mindlin, cohesive, cpm, viscel_rolling, cdm; user: Cundall-Strack as a user's law,
 # granum only).
 # Prints one line:  BENCH name=dense_lattice ...
 
@@ -54,6 +58,9 @@ if LAW == 'cohesive':
 elif LAW == 'viscel_rolling':
     mat = O.materials.append(ViscElMat(young=1e8, poisson=0.3, frictionAngle=radians(30), density=2600, tc=1e-3,
                                        en=0.5, et=0.5, mR=0.05, mRtype=2))
+elif LAW == 'cdm':
+    mat = O.materials.append(FrictMatCDM(young=1e8, poisson=0.3, frictionAngle=radians(30), density=2600,
+                                         sigmaMax=1e6, alpha=1.2, c1=0.1, c2=1e-6))
 else:
     mat = O.materials.append(FrictMat(young=1e8, poisson=0.3, frictionAngle=radians(30), density=2600))
 wallMat = mat
@@ -86,6 +93,8 @@ elif LAW == 'cohesive':  # cohesion with bending and twisting moments (granum an
     law = Law2_ScGeom6D_CohFrictPhys_CohesionMoment(useIncrementalForm=True)
 elif LAW == 'viscel_rolling':  # visco-elastic with rolling resistance (granum and YADE)
     ip2, law = Ip2_ViscElMat_ViscElMat_ViscElPhys(), Law2_ScGeom_ViscElPhys_Basic()
+elif LAW == 'cdm':  # the extended Hertz-Mindlin law (granum and YADE)
+    ip2, law = Ip2_FrictMatCDM_FrictMatCDM_MindlinPhysCDM(), Law2_ScGeom_MindlinPhysCDM_HertzMindlinCDM()
 
 O.engines = [
     ForceResetter(),

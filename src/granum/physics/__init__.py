@@ -14,6 +14,7 @@ from granum.physics import (  # noqa: F401  (imported for their registrations)
     l3geom,
     materials,
     mindlin,
+    mindlin_cdm,
     sphere,
     viscel,
     wall,

@@ -20,6 +20,9 @@ from granum.physics.registry import Functor, Param
 from granum.physics.scgeom import scgeom_write
 from granum.physics.vec import add, dot, load3, load4, norm, quat_rotate, scale, sub
 
+#: a flat body's reference radius in sphere radii with ``hertzian`` (YADE's: nearly infinite, finite for R*)
+HERTZIAN_RADIUS = 1e8
+
 
 @jit
 def facet_vertex(i, k, S):
@@ -82,7 +85,8 @@ def geom_facet_sphere(c, id1, id2, shift, S, C, prm):
     The contact is with the point P of the triangle closest to the sphere centre x:
     on the face (n is the facet normal, turned towards the sphere), on an edge or
     on a vertex (n = (x - P)/|x - P|). delta = r - |x - P|,
-    C = x - (r - delta/2) n. The reference radii are 2r (facet) and r (sphere).
+    C = x - (r - delta/2) n. The reference radii are 2r (facet; ``hertzian``: 1e8 r, the flat surface of
+    Hertz's theory, as YADE) and r (sphere).
     Detection (``c`` < 0) returns the separation |x - P| - r [m] (|distance to the plane| - r
     when that already exceeds r).
     """
@@ -104,7 +108,8 @@ def geom_facet_sphere(c, id1, id2, shift, S, C, prm):
     else:
         n = nf
     pen = r - dist
-    scgeom_write(c, C, n, pen, sub(x, scale(n, r - 0.5 * pen)), 2.0 * r, r, False)
+    r1 = HERTZIAN_RADIUS * r if prm[HERTZIAN] != 0.0 else 2.0 * r
+    scgeom_write(c, C, n, pen, sub(x, scale(n, r - 0.5 * pen)), r1, r, False)
     return 0.0
 
 
@@ -122,9 +127,13 @@ registry.register_reach(ShapeKind.FACET, f"{__name__}:reach_facet")
 registry.register_functor(Functor(
     "Bo1_Facet_Aabb", "bound", (ShapeKind.FACET,), None, f"{__name__}:bound_facet", (),
     "Axis-aligned bound of a facet."))
-registry.register_functor(Functor(
+IG2_FACET_SCGEOM = Functor(
     "Ig2_Facet_Sphere_ScGeom", "geom", (ShapeKind.FACET, ShapeKind.SPHERE), "ScGeom",
     f"{__name__}:geom_facet_sphere",
     (Param("shrinkFactor", 0.0, "Shrink the facet for the contact test (accepted)", supported=False),
-     Param("hertzian", False, "Hertzian contact geometry (accepted)", supported=False)),
-    geom_facet_sphere.py_func.__doc__))
+     Param("hertzian", False, "The facet's reference radius (refR1) is 1e8 times the sphere's instead of twice it "
+                              "(closer to Hertz's theory, where it is infinite) [-]")),
+    geom_facet_sphere.py_func.__doc__)
+registry.register_functor(IG2_FACET_SCGEOM)
+#: place of ``hertzian`` in the functor's row ``prm``
+HERTZIAN = IG2_FACET_SCGEOM.slot("hertzian")

@@ -139,15 +139,30 @@ class MindlinIp2:
             if p.valid is not None and not p.matchmaker:
                 p.check(name, float(getattr(self, p.name)))
         check_damping(name, self.en, self.es, self.betan, self.betas)
-        b = scene.bodies
-        for k in sorted({int(m) for m in b.material[:b.count][b.alive[:b.count]]}):
-            mat = scene.materials[k]
-            nu = getattr(mat, "poisson", None)
-            if nu is not None and not HERTZ_POISSON.holds(float(nu)):
-                label = f" {mat.label!r}" if getattr(mat, "label", "") else ""
-                raise ValueError(f"{name}: material {k}{label} ({type(mat).__name__}) has poisson={nu!r}; "
-                                 f"Hertz-Mindlin needs a Poisson's ratio that {HERTZ_POISSON.says()} "
-                                 f"({HERTZ_POISSON.why})")
+        check_poisson(name, scene)
+
+
+def scene_material_rows(scene) -> list[int]:
+    """The rows of ``scene.materials`` that its live bodies use, in increasing order."""
+    b = scene.bodies
+    return sorted({int(m) for m in b.material[:b.count][b.alive[:b.count]]})
+
+
+def material_name(scene, k: int) -> str:
+    """How an error names material row ``k``: its row, label and class."""
+    mat = scene.materials[k]
+    label = f" {mat.label!r}" if getattr(mat, "label", "") else ""
+    return f"material {k}{label} ({type(mat).__name__})"
+
+
+def check_poisson(owner: str, scene) -> None:
+    """Raise ValueError, naming ``owner``, the material and the value, when a material of the scene's bodies
+    has a Poisson's ratio outside [0, 1) (:data:`HERTZ_POISSON`)."""
+    for k in scene_material_rows(scene):
+        nu = getattr(scene.materials[k], "poisson", None)
+        if nu is not None and not HERTZ_POISSON.holds(float(nu)):
+            raise ValueError(f"{owner}: {material_name(scene, k)} has poisson={nu!r}; Hertz-Mindlin needs a "
+                             f"Poisson's ratio that {HERTZ_POISSON.says()} ({HERTZ_POISSON.why})")
 
 
 IP2 = Functor(
@@ -253,6 +268,19 @@ def effective_radius(c, C):
 
 
 @jit
+def hertz_moduli(m1, m2):
+    """``(E*, G*)`` [Pa] of two materials' rows of the material table (see the module docstring):
+    E* = E1 E2 / ((1 - nu1^2) E2 + (1 - nu2^2) E1), G* = 1 / ((2 - nu1)/G1 + (2 - nu2)/G2)."""
+    e1 = m1[materials.M_YOUNG]
+    e2 = m2[materials.M_YOUNG]
+    v1 = m1[materials.M_POISSON]
+    v2 = m2[materials.M_POISSON]
+    g1 = e1 / (2.0 * (1.0 + v1))
+    g2 = e2 / (2.0 * (1.0 + v2))
+    return e1 * e2 / ((1.0 - v1 * v1) * e2 + (1.0 - v2 * v2) * e1), 1.0 / ((2.0 - v1) / g1 + (2.0 - v2) / g2)
+
+
+@jit
 def phys_mindlin(c, id1, id2, S, C, prm):
     """MindlinPhys constants of a new contact (see the module docstring): kno, kso, the DMT adhesion
     force, the damping ratios, tan(phi) = tan(min(phi_1, phi_2)); kn and ks start at 0 (the law sets
@@ -260,14 +288,7 @@ def phys_mindlin(c, id1, id2, S, C, prm):
     f = C.con_f
     m1 = S.mat[S.material[id1]]
     m2 = S.mat[S.material[id2]]
-    e1 = m1[materials.M_YOUNG]
-    e2 = m2[materials.M_YOUNG]
-    v1 = m1[materials.M_POISSON]
-    v2 = m2[materials.M_POISSON]
-    g1 = e1 / (2.0 * (1.0 + v1))
-    g2 = e2 / (2.0 * (1.0 + v2))
-    e_star = e1 * e2 / ((1.0 - v1 * v1) * e2 + (1.0 - v2 * v2) * e1)
-    g_star = 1.0 / ((2.0 - v1) / g1 + (2.0 - v2) / g2)
+    e_star, g_star = hertz_moduli(m1, m2)
     r1, r2 = reference_radii(c, C)
     r = r1 * r2 / (r1 + r2)
     f[c, F_KNO] = 4.0 / 3.0 * e_star * math.sqrt(r)

@@ -11,6 +11,7 @@ import math
 from granum._jit import jit
 from granum.core.shapes import ShapeKind
 from granum.physics import registry
+from granum.physics.facet import HERTZIAN_RADIUS
 from granum.physics.registry import Functor, Param
 from granum.physics.scgeom import scgeom_write
 from granum.physics.vec import add, load3
@@ -35,7 +36,8 @@ def geom_wall_sphere(c, id1, id2, shift, S, C, prm):
 
     With the wall at coordinate w on axis a and the sphere centre x: d = x_a - w,
     the normal is +-e_a (towards the sphere, or fixed by the wall's ``sense``),
-    delta = r - |d|, and C is the sphere centre projected on the plane.
+    delta = r - |d|, and C is the sphere centre projected on the plane. The reference radii are r for
+    both (``hertzian``: 1e8 r for the wall, as YADE).
     A wall with ``sense`` = +1 (-1) interacts only with spheres on its positive
     (negative) side. Detection (``c`` < 0) returns the separation |d| - r [m]; a sphere
     on the side the wall ignores must first cross the plane: separation |d|.
@@ -55,7 +57,8 @@ def geom_wall_sphere(c, id1, id2, shift, S, C, prm):
     n = (side if a == 0 else 0.0, side if a == 1 else 0.0, side if a == 2 else 0.0)
     pen = r - side * d
     point = (S.pos[id1, 0] if a == 0 else x[0], S.pos[id1, 1] if a == 1 else x[1], S.pos[id1, 2] if a == 2 else x[2])
-    scgeom_write(c, C, n, pen, point, r, r, prm[NO_RATCH] != 0.0)
+    r1 = HERTZIAN_RADIUS * r if prm[HERTZIAN] != 0.0 else r
+    scgeom_write(c, C, n, pen, point, r1, r, prm[NO_RATCH] != 0.0)
     return 0.0
 
 
@@ -66,8 +69,10 @@ IG2_WALL_SCGEOM = Functor(
     "Ig2_Wall_Sphere_ScGeom", "geom", (ShapeKind.WALL, ShapeKind.SPHERE), "ScGeom",
     f"{__name__}:geom_wall_sphere",
     (Param("noRatch", True, "Use reference radii as lever arms in the relative velocity [-]"),
-     Param("hertzian", False, "Hertzian contact geometry (accepted)", supported=False)),
+     Param("hertzian", False, "The wall's reference radius (refR1) is 1e8 times the sphere's instead of equal to "
+                              "it (closer to Hertz's theory, where it is infinite) [-]")),
     geom_wall_sphere.py_func.__doc__)
 registry.register_functor(IG2_WALL_SCGEOM)
 #: place of ``noRatch`` in the functor's row ``prm``
 NO_RATCH = IG2_WALL_SCGEOM.slot("noRatch")
+HERTZIAN = IG2_WALL_SCGEOM.slot("hertzian")

@@ -16,7 +16,7 @@ import numpy as np
 from granum.core.contacts import C_CONTACTS, F_KN, F_KS, F_PEN, FLAG_ALIVE, I_FLAGS, I_LAW
 from granum.engines.functors import CLASSES
 from granum.kernels.dispatch import code_of
-from granum.physics import cpm, mindlin
+from granum.physics import cpm, mindlin, mindlin_cdm
 from granum.yade.interactions import PHYS_VIEWS
 
 MINDLIN = CLASSES["Law2_ScGeom_MindlinPhys_Mindlin"]
@@ -120,3 +120,17 @@ def _func_g_inv(omega, epsCrackOnset, epsFracture, neverDamage=False, damLaw=1) 
 
 PHYS_VIEWS["CpmPhys"].funcG = staticmethod(_func_g)
 PHYS_VIEWS["CpmPhys"].funcGInv = staticmethod(_func_g_inv)
+
+
+CDM = CLASSES["Law2_ScGeom_MindlinPhysCDM_HertzMindlinCDM"]
+
+
+def _ratio_yielding(self) -> float:
+    """Fraction of this law's contacts that are being crushed (isYielding; NaN without contacts, as YADE's
+    0/0) [-]."""
+    f = _rows(type(self).__name__, mindlin_cdm.F_CDM + 9)
+    return float(f[:, mindlin_cdm.F_YIELDING].sum() / f.shape[0]) if f.size else float("nan")
+
+
+CDM.ratioSlidingContacts = _ratio_sliding
+CDM.ratioYieldingContacts = _ratio_yielding
