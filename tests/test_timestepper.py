@@ -199,7 +199,7 @@ def _coh_chain(y, safety):
 @pytest.mark.parametrize("case", ["chain", "chain_safety_.5"])
 def test_cohfrict_chain_steps_as_yade(yade, case):
     """The chain with CohFrictPhys contacts (rolling and twisting stiffness, one sphere spinning): every step's
-    O.dt as YADE's over 30 steps; without kr and ktw the step would be about 1.8 times larger."""
+    O.dt as YADE's over 30 steps; without kr and ktw the first step would be 3.0 times larger."""
     ref = REF_ROT[case]
     ts = _coh_chain(yade, ref["safety"])
     got = _record(yade, ts, 30)
