@@ -187,14 +187,16 @@ def _run_to_failure(yade, match: str):
 
 
 def test_body_wider_than_half_the_periodic_cell(yade):
-    """A sphere wider than half the periodic cell is named as such (it used to be reported as a missing
-    Law2 functor); YADE refuses it too ("spans over half of the cell size")."""
+    """A sphere wider than half the periodic cell that meets a partner of smaller id is named as such (it used
+    to be reported as a missing Law2 functor); YADE refuses it too ("Body #1 spans over half of the cell size",
+    tests/reference/yade/periodic_span.py)."""
     yade.O.periodic = True
     yade.O.cell.hSize = yade.Matrix3(1, 0, 0, 0, 1, 0, 0, 0, 1)
-    yade.O.bodies.append(yade.sphere((0.5, 0.5, 0.5), 0.4))
+    yade.O.bodies.append([yade.sphere((0.5, 0.5, 0.5), 0.11), yade.sphere((0.5, 0.5, 0.7), 0.4)])
     yade.O.engines = frict_engines(yade)
     yade.O.dt = 1e-5
-    text = _run_to_failure(yade, r"body 0 \(Sphere.*spans over half of the periodic cell.*enlarge O.cell.hSize")
+    text = _run_to_failure(yade, r"body 1 \(Sphere.*spans over half of the periodic cell along the cell's axis 0"
+                                 r".*enlarge O.cell.hSize.*allowBiggerThanPeriod")
     assert "Law2" not in text
     assert yade.O.iter == 0
 

@@ -28,13 +28,14 @@ def _fractional_boxes(yade, verlet):
     pos = np.array([b.state.pos for b in yade.O.bodies])
     r = np.array([b.shape.radius for b in yade.O.bodies]) + verlet
     s = pos @ hinv.T
-    hw = r[:, None] * np.abs(hinv).sum(axis=1)[None, :]
+    hw = r[:, None] * np.linalg.norm(hinv, axis=1)[None, :]  # a ball's exact extent along each cell axis
     return H, pos, r - verlet, s, hw
 
 
 @pytest.mark.parametrize("shear", [0.0, 0.3, -0.45])
 def test_periodic_pairs_equal_brute_force_over_images(yade, shear):
-    """Pairs and cellDist equal a brute-force search of the 27 nearest images, orthogonal and sheared cells."""
+    """Pairs and cellDist equal a brute-force search of the 27 nearest images, orthogonal and sheared cells
+    (each sphere's bound, radius plus Verlet distance, spans r |row k of H^-1| on either side along axis k)."""
     h = ((1.0, shear, 0.2 * shear), (0.0, 1.1, 0.0), (0.0, 0.0, 0.9))
     _cloud(yade, h, 400, 0.02, 0.05, seed=4)
     yade.O.engines = [yade.ForceResetter(), yade.InsertionSortCollider([yade.Bo1_Sphere_Aabb()])]

@@ -1,5 +1,6 @@
-"""GlobalStiffnessTimeStepper and O.dynDt against real YADE (tests/reference/yade/timestepper.py), and the
-step against the critical step of the linearised contact network (closed form: the largest eigenvalue).
+"""GlobalStiffnessTimeStepper and O.dynDt against real YADE (tests/reference/yade/timestepper.py, and
+timestepper_rot.py for contacts with rolling and twisting stiffness), and the step against the critical step of
+the linearised contact network (closed form: the largest eigenvalue).
 """
 
 from __future__ import annotations
@@ -11,6 +12,7 @@ import pytest
 from conftest import reference
 
 REF = reference("timestepper")
+REF_ROT = reference("timestepper_rot")
 CHAIN = [((0, 0, 0), .5), ((.75, .2, 0), .3), ((1.3, .2, .3), .4), ((1.8, .55, .45), .35), ((2.4, .6, .1), .45),
          ((2.9, .9, .1), .3)]
 
@@ -118,7 +120,8 @@ def _critical_step(y):
     """2/sqrt(lambda_max(M^-1 K)) of the free bodies' 6 DOFs, K the linearised contact stiffness: for a
     contact of normal n between arms a1 = r1 n (body 1) and a2 = -r2 n (body 2), the relative displacement
     at the contact point is u = (x2 + th2 x a2) - (x1 + th1 x a1) and the energy 1/2 u.Kc.u,
-    Kc = kn n n^T + ks (1 - n n^T)."""
+    Kc = kn n n^T + ks (1 - n n^T); a contact with rolling and twisting stiffness (kr, ktw) adds
+    1/2 w.Kw.w, w = th2 - th1 its relative rotation, Kw = kr (1 - n n^T) + ktw n n^T."""
     free = [b.id for b in y.O.bodies if b.dynamic]
     col = {i: 6 * k for k, i in enumerate(free)}
     K = np.zeros((6 * len(free),) * 2)
@@ -133,6 +136,13 @@ def _critical_step(y):
             if body in col:
                 B[:, col[body]:col[body] + 6] = blk
         K += B.T @ kc @ B
+        kr, ktw = getattr(i.phys, "kr", 0.0), getattr(i.phys, "ktw", 0.0)
+        kw = kr * (np.eye(3) - np.outer(n, n)) + ktw * np.outer(n, n)
+        R = np.zeros((3, K.shape[0]))
+        for body, sign in ((i.id1, -1.0), (i.id2, 1.0)):
+            if body in col:
+                R[:, col[body] + 3:col[body] + 6] = sign * np.eye(3)
+        K += R.T @ kw @ R
     minv = np.concatenate([[1 / y.O.bodies[i].state.mass] * 3 + list(1 / np.array(list(y.O.bodies[i].state.inertia)))
                            for i in free])
     lam = np.linalg.eigvals(np.sqrt(minv)[:, None] * K * np.sqrt(minv)[None, :]).real.max()
@@ -158,3 +168,95 @@ def test_bad_attributes(yade):
         yade.GlobalStiffnessTimeStepper(maxDt=0)
     with pytest.raises(NotImplementedError, match="densityScaling"):
         yade.GlobalStiffnessTimeStepper(densityScaling=True)
+
+
+# ---- rolling and twisting stiffness (RotStiffFrictPhys: CohFrictPhys, MindlinPhys) -------------------------
+
+COH = ("Ig2_Sphere_Sphere_ScGeom6D", "Ip2_CohFrictMat_CohFrictMat_CohFrictPhys",
+       "Law2_ScGeom6D_CohFrictPhys_CohesionMoment")
+
+
+def _rot_engines(y, ts, ip2, law):
+    y.O.engines = [y.ForceResetter(), y.InsertionSortCollider([y.Bo1_Sphere_Aabb()]),
+                   y.InteractionLoop([y.Ig2_Sphere_Sphere_ScGeom6D()], [ip2], [law]), ts,
+                   y.NewtonIntegrator(damping=.2, gravity=(0, 0, 0))]
+
+
+def _coh_chain(y, safety):
+    m1 = y.O.materials.append(y.CohFrictMat(young=1e7, poisson=.3, density=2600, frictionAngle=.5, alphaKr=3,
+                                            alphaKtw=1, momentRotationLaw=True, isCohesive=False))
+    m2 = y.O.materials.append(y.CohFrictMat(young=3e7, poisson=.8, density=1500, frictionAngle=.5, alphaKr=20,
+                                            alphaKtw=8, momentRotationLaw=True, isCohesive=False))
+    y.O.bodies.append([y.sphere(c, r, material=(m1 if k % 2 == 0 else m2), fixed=(k == 0))
+                       for k, (c, r) in enumerate(CHAIN)])
+    y.O.bodies[5].state.angVel = (0, 0, 3)
+    ts = y.GlobalStiffnessTimeStepper(timeStepUpdateInterval=1, timestepSafetyCoefficient=safety)
+    _rot_engines(y, ts, getattr(y, COH[1])(), getattr(y, COH[2])())
+    y.O.dt = 1e-3
+    return ts
+
+
+@pytest.mark.parametrize("case", ["chain", "chain_safety_.5"])
+def test_cohfrict_chain_steps_as_yade(yade, case):
+    """The chain with CohFrictPhys contacts (rolling and twisting stiffness, one sphere spinning): every step's
+    O.dt as YADE's over 30 steps; without kr and ktw the first step would be 3.0 times larger."""
+    ref = REF_ROT[case]
+    ts = _coh_chain(yade, ref["safety"])
+    got = _record(yade, ts, 30)
+    for k, (s, (dt, prev)) in enumerate(zip(ref["steps"], got, strict=True)):
+        assert dt == pytest.approx(s["dt"], rel=1e-9), f"step {k + 1}"
+        assert prev == pytest.approx(s["previousDt"], rel=1e-9)
+
+
+def _pair(y, ref, ip2, law, mat):
+    m = y.O.materials.append(mat)
+    n = np.array(ref["normal"], float) / np.linalg.norm(ref["normal"])
+    y.O.bodies.append([y.sphere((0, 0, 0), .5, material=m, fixed=True), y.sphere(tuple(n * .89), .4, material=m)])
+    _rot_engines(y, y.GlobalStiffnessTimeStepper(timeStepUpdateInterval=1), ip2, law)
+    y.O.dt = 1e-3
+    y.O.step()
+    i = y.O.interactions[0, 1]
+    c = ref["contacts"][0]
+    assert [i.phys.kn, i.phys.ks, i.phys.kr, i.phys.ktw] == pytest.approx([c[k] for k in ("kn", "ks", "kr", "ktw")],
+                                                                          rel=1e-12)
+    assert y.O.dt == pytest.approx(ref["dt"], rel=1e-12)
+
+
+@pytest.mark.parametrize("k", range(len(REF_ROT["pair_cohfrict"])))
+def test_cohfrict_pair_step_as_yade(yade, k):
+    """A sphere on a fixed one, oblique and axial normals: kr counts for the rotations about the axes normal
+    to n and ktw for the rotation about n, with or without momentRotationLaw (YADE's steps to 1e-12)."""
+    ref = REF_ROT["pair_cohfrict"][k]
+    mat = yade.CohFrictMat(young=1e7, poisson=.3, density=2600, frictionAngle=.5, alphaKr=ref["alphaKr"],
+                           alphaKtw=ref["alphaKtw"], momentRotationLaw=ref["momentRotationLaw"], isCohesive=False)
+    _pair(yade, ref, getattr(yade, COH[1])(), getattr(yade, COH[2])(), mat)
+
+
+@pytest.mark.parametrize("k", range(len(REF_ROT["pair_mindlin"])))
+def test_mindlin_pair_step_as_yade(yade, k):
+    """The same pair with Hertz-Mindlin's krot and ktwist (with or without includeMoment)."""
+    ref = REF_ROT["pair_mindlin"][k]
+    mat = yade.FrictMat(young=1e7, poisson=.3, density=2600, frictionAngle=.5)
+    _pair(yade, ref, yade.Ip2_FrictMat_FrictMat_MindlinPhys(krot=ref["krot"], ktwist=ref["ktwist"]),
+          yade.Law2_ScGeom_MindlinPhys_Mindlin(includeMoment=ref["includeMoment"]), mat)
+
+
+def test_rolling_stiffness_closed_form(yade):
+    """Normal along x, alphaKtw 2: about x only the twisting spring acts, K^R_x = ktw, and that rotation is the
+    stiffest (I/ktw is the smallest ratio): dt = q s sqrt(I / ktw)."""
+    ref = next(r for r in REF_ROT["pair_cohfrict"] if r["normal"] == [1, 0, 0] and r["alphaKtw"] == 2)
+    mat = yade.CohFrictMat(young=1e7, poisson=.3, density=2600, frictionAngle=.5, alphaKr=0, alphaKtw=2,
+                           momentRotationLaw=True, isCohesive=False)
+    _pair(yade, ref, getattr(yade, COH[1])(), getattr(yade, COH[2])(), mat)
+    ktw = yade.O.interactions[0, 1].phys.ktw
+    assert yade.O.dt == pytest.approx(1.41044 * 0.8 * math.sqrt(yade.O.bodies[1].state.inertia[0] / ktw), rel=1e-14)
+
+
+@pytest.mark.parametrize("safety", [0.8, 1.0])
+def test_cohfrict_below_the_critical_step(yade, safety):
+    """With rolling and twisting springs the step stays below the critical step of the linearised network
+    (its rotational blocks included) and within a factor 2 of it."""
+    _coh_chain(yade, safety)
+    yade.O.step()
+    crit = _critical_step(yade)
+    assert 0.5 * crit < yade.O.dt < crit

@@ -48,6 +48,19 @@ def test_the_play_button_is_made_explicit(tmp_path):
     assert got["probes"] == {"seen": 7, "iter": 12}
 
 
+def test_max_iter_stops_the_scripts_runs(tmp_path):
+    """With max_iter, the script's bounded runs stop at that iteration and the later ones do nothing (a script
+    that loops over O.run(n, True) calls is cut short); unbounded runs are still left to the appended steps."""
+    folder = tmp_path / "ex"
+    folder.mkdir()
+    (folder / "s.py").write_text("O.dt = 1e-3\nseen = []\nfor k in range(4):\n    O.run(4, True)\n"
+                                 "    seen.append(O.iter)\nO.run()\n")
+    example = harness.Example(path="ex/s.py", steps=2, max_iter=10, probes={"seen": "seen", "iter": "O.iter"})
+    got = harness.run(example, "granum", examples_dir=str(tmp_path))
+    assert got["returncode"] == 0, got["output"]
+    assert got["probes"] == {"seen": [4, 8, 10, 10], "iter": 12}
+
+
 def test_a_probe_outside_its_tolerance_is_reported():
     example = harness.Example(path="x.py", probes={"a": "", "b": "", "c": ""}, rtol=1e-3,
                               tolerances={"b": {"rtol": 0.1}})

@@ -6,7 +6,8 @@ script, how many steps to run after the script's own text (``O.run(steps, True)`
 run to YADE's play button or run without end) and which quantities to compare (``probes``: Python
 expressions evaluated in the script's namespace after the run). See the table's header for its fields.
 YADE's play button is made explicit: while the script's text runs, a bounded ``O.run(n)`` runs its n steps to
-the end before the script goes on, and an unbounded ``O.run()`` is left to the appended steps.
+the end before the script goes on (or up to the entry's ``max_iter``), and an unbounded ``O.run()`` is left to the
+appended steps.
 
 Each run happens in a fresh copy of the script's folder (scripts read their meshes and write their outputs
 next to themselves), in a process of its own:
@@ -58,6 +59,9 @@ class Example:
     #: whether both programs must end at the same O.iter (False where the script stops on a condition that a
     #: random packing reaches at another step)
     same_iter: bool = True
+    #: > 0: the script's bounded runs stop at this O.iter (the later ones do nothing), for scripts that run
+    #: longer than a reference run can take
+    max_iter: int = 0
     why: str = ""
 
     @property
@@ -114,7 +118,9 @@ def driver_source(example: Example, script: str, stub_qt: bool = False) -> str:
         "        object.__setattr__(self, '_omega', omega)\n"
         "    def run(self, nSteps=-1, wait=False):\n"
         "        if nSteps is not None and nSteps > 0:\n"
-        "            self._omega.run(nSteps, True)\n"
+        + (f"            nSteps = min(nSteps, {example.max_iter} - self._omega.iter)\n" if example.max_iter else "")
+        + "            if nSteps > 0:\n"
+        "                self._omega.run(nSteps, True)\n"
         "    def __getattr__(self, name):\n"
         "        return getattr(self._omega, name)\n"
         "    def __setattr__(self, name, value):\n"

@@ -183,7 +183,7 @@ STATUS_NO_PHYS = 1      # no IPhys functor for a material pair (ERR_A, ERR_B: bo
 STATUS_NO_LAW = 2       # no law functor for a geometry/physics pair (ERR_A, ERR_B: body ids)
 STATUS_NONFINITE = 3    # NaN/inf or exploding velocity (ERR_A: body id)
 STATUS_NO_GEOM = 4      # bounds of two bodies overlap, a geometry functor exists but is not listed
-STATUS_TOO_LARGE = 5    # a body is wider than half the periodic cell (ERR_A: body id)
+STATUS_TOO_LARGE = 5    # a body is wider than half the periodic cell (ERR_A: body id, ERR_B: cell axis)
 STATUS_NO_PAIR_VALUE = 6  # an Ip2 functor has no value for the materials of a new contact (ERR_A, ERR_B: body ids)
 
 #: Record of the interaction storage passed to kernels (see the module docstring).

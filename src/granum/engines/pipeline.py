@@ -122,7 +122,8 @@ class InsertionSortCollider(GlobalEngine):
         "verletDist": Attr(-0.5, "Bound enlargement [m]; negative: fraction of the smallest sphere radius",
                            to_float("verletDist")),
         "sortAxis": Attr(0, "Accepted for compatibility", to_int("sortAxis")),
-        "allowBiggerThanPeriod": Attr(False, "Allow bodies larger than half the periodic cell", to_bool),
+        "allowBiggerThanPeriod": Attr(False, "Accept bodies wider than half the periodic cell (each pair is then "
+                                             "taken through its nearest image)", to_bool),
         "sortThenCollide": Attr(False, "Accepted for compatibility", to_bool),
         "targetInterv": Attr(100, "Accepted for compatibility (granum's Verlet distance is uniform)",
                              to_int("targetInterv")),
@@ -169,6 +170,7 @@ class InsertionSortCollider(GlobalEngine):
             bound_code[f.spec.types[0]] = f.code
         return ColliderParams(bound_code=bound_code, bound_tab=functor_table("bound", self.boundDispatcher.functors),
                               verlet_dist=float(self.verletDist), avoid_self=int(self.avoidSelfInteractionMask),
+                              allow_bigger=bool(self.allowBiggerThanPeriod),
                               cell=Static(("cell", bool(scene.periodic))))
 
 

@@ -1,8 +1,8 @@
 """What went wrong in a step, in words: one message per ``STATUS_*`` code a kernel can set.
 
 A kernel that cannot complete a step stores a ``STATUS_*`` code of :mod:`granum.core.contacts`
-and up to two values (``C_ERR_A``, ``C_ERR_B``: body ids) in the contact counters and returns;
-the runner turns them into a :class:`~granum.engines.runner.SimulationError` with
+and up to two values (``C_ERR_A``, ``C_ERR_B``: body ids, or a body and a cell axis) in the contact
+counters and returns; the runner turns them into a :class:`~granum.engines.runner.SimulationError` with
 :func:`status_message`. :data:`MESSAGES` holds one message builder per code, so each failure names
 its own cause and what to change: a missing functor, a body too large for the periodic cell,
 coincident centres, an infinite stiffness, or (only when none of those explains it) a time step
@@ -64,13 +64,16 @@ def _no_geom(scene, a: int, b: int) -> str:
             f"InteractionLoop; add the matching Ig2_ functor")
 
 
-def _too_large(scene, a: int, _b: int) -> str:
+def _too_large(scene, a: int, axis: int) -> str:
+    """Body ``a`` spans over half the cell along the cell's axis ``axis`` (the collider's rule:
+    :mod:`granum.kernels.collider_periodic`)."""
     bd = scene.bodies
     span = np.asarray(bd.bound_max[a]) - np.asarray(bd.bound_min[a])
     cell = np.linalg.norm(np.asarray(scene.cell_hsize), axis=0)
     return (f"body {a} ({_shape(scene, a)}, bound {tuple(span.round(12).tolist())}) spans over half of the "
-            f"periodic cell (cell sizes {tuple(cell.round(12).tolist())}); the periodic collider needs every body "
-            f"narrower than half the cell: enlarge O.cell.hSize or make the body smaller")
+            f"periodic cell along the cell's axis {axis} (cell sizes {tuple(cell.round(12).tolist())}) and meets "
+            f"another body: enlarge O.cell.hSize, make the body smaller, flip a sheared cell (flipCell) or set "
+            f"InsertionSortCollider.allowBiggerThanPeriod=True (each pair then meets through its nearest image)")
 
 
 def _live_contacts_of(scene, a: int) -> list[tuple[int, int]]:

@@ -37,6 +37,24 @@ def _viscel_phys(nphys: int) -> np.ndarray:
     return out
 
 
+@functools.lru_cache(maxsize=8)
+def _rot_columns(nphys: int) -> np.ndarray:
+    """The contact columns of the rolling and twisting stiffnesses ``kr``, ``ktw`` for each Ip2 functor code
+    whose contacts are RotStiffFrictPhys (CohFrictPhys, MindlinPhys), -1 for the others, (nphys, 2) int64."""
+    out = np.full((max(nphys, 1), 2), -1, np.int64)
+    for spec in functors("phys"):
+        if "RotStiffFrictPhys" not in registry.phys_ancestry(spec.produces):
+            continue
+        fields = registry.type_fields(registry.PHYS_TYPES, spec.produces)
+        missing = [name for name in ("kr", "ktw") if name not in fields]
+        if missing:
+            raise TypeError(f"GlobalStiffnessTimeStepper: {spec.produces} (made by {spec.yade_name}) is a "
+                            f"RotStiffFrictPhys without the field(s) {missing}: declare the columns of its rolling "
+                            f"and twisting stiffnesses")
+        out[code_of(spec.yade_name)] = (fields["kr"][0], fields["ktw"][0])
+    return out
+
+
 class GlobalStiffnessTimeStepper(TimeStepper):
     """O.dt from each body's contact stiffness (see :mod:`granum.kernels.timestep` for the formula).
 
@@ -79,4 +97,5 @@ class GlobalStiffnessTimeStepper(TimeStepper):
             active=bool(self.active), interval=int(self.timeStepUpdateInterval),
             safety=float(self.timestepSafetyCoefficient), default_dt=float(self.defaultDt),
             max_dt=float(self.maxDt), visc_el=bool(self.viscEl),
-            viscel_phys=_viscel_phys(len(functors("phys"))), state=self._state)
+            viscel_phys=_viscel_phys(len(functors("phys"))), rot_columns=_rot_columns(len(functors("phys"))),
+            state=self._state)

@@ -37,6 +37,7 @@ from granum.core.contacts import (
     C_COLLIDER_RUNS,
     C_CONTACTS,
     C_ERR_A,
+    C_ERR_B,
     C_PAIRS,
     C_STATUS,
     FLAG_ALIVE,
@@ -623,23 +624,24 @@ def cell_moved(S, verlet):
     return math.sqrt(3.0 * change) > 0.5 * verlet
 
 
-def cell_pairs(cell, S, nb, avoid_self):
-    """``(pairs, start, cells, too_large)`` of the broad phase for the kind of cell ``cell``, a static
+def cell_pairs(cell, S, nb, avoid_self, allow_bigger):
+    """``(pairs, start, cells, too_large, axis)`` of the broad phase for the kind of cell ``cell``, a static
     ``("cell", periodic)`` (:mod:`granum.kernels.static`): aperiodic scenes compile no periodic broad phase."""
     raise TypeError("cell_pairs is called from compiled kernels only")
 
 
 @overload(cell_pairs)
-def _cell_pairs(cell, S, nb, avoid_self):
+def _cell_pairs(cell, S, nb, avoid_self, allow_bigger):
     value = static_value(cell, "cell")
     if value is None:
         return None
     if value[1]:
-        return lambda cell, S, nb, avoid_self: find_pairs_periodic(S, nb, avoid_self)
+        return lambda cell, S, nb, avoid_self, allow_bigger: find_pairs_periodic(S, nb, avoid_self, allow_bigger)
 
-    def aperiodic(cell, S, nb, avoid_self):
+    def aperiodic(cell, S, nb, avoid_self, allow_bigger):
         pairs, start = find_pairs(S, nb, avoid_self)
-        return pairs, start, np.zeros((0, 3), np.int32), -1  # no images: pair_cell is read in periodic cells only
+        # no images: pair_cell is read in periodic cells only
+        return pairs, start, np.zeros((0, 3), np.int32), -1, -1
 
     return aperiodic
 
@@ -651,6 +653,7 @@ class ColliderParams(NamedTuple):
     bound_tab: tuple        #: the bound functors' table (:func:`granum.engines.functors.functor_table`)
     verlet_dist: float      #: Verlet distance [m]; negative: that fraction of the smallest sphere radius
     avoid_self: int         #: YADE's avoidSelfInteractionMask
+    allow_bigger: bool      #: YADE's allowBiggerThanPeriod: no periodic body is refused as too wide
     cell: Static            #: ``("cell", periodic)`` of the scene: compiles one broad phase (:func:`cell_pairs`)
 
 
@@ -689,10 +692,11 @@ def collider_stage(S, C, P):
         # bodies and the cell share the Verlet budget: each may use half of it
         S.scal[S_VERLET] = 0.5 * verlet
         copy_rows(S.cell_bound_hsize, S.cell_hsize, 3)
-    pairs, start, cells, too_large = cell_pairs(P.cell, R, nb, P.avoid_self)
+    pairs, start, cells, too_large, axis = cell_pairs(P.cell, R, nb, P.avoid_self, P.allow_bigger)
     if too_large >= 0:
         C.ctr[C_STATUS] = STATUS_TOO_LARGE
         C.ctr[C_ERR_A] = too_large
+        C.ctr[C_ERR_B] = axis
         return
     n = pairs.shape[0]
     pair_con = np.full(n, -1, np.int32)

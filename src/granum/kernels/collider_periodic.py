@@ -7,13 +7,24 @@ coordinates s = H^-1 x, where the cell is the unit cube in any shear state:
 
 * each bound (the Cartesian box incl. the Verlet distance) maps to a box of
   half-widths hw_k = sum_j |H^-1_kj| half_j around s(centre), which contains it;
+  a sphere's bound is a ball of radius R (its radius plus the Verlet distance),
+  whose exact extent is hw_k = R |row k of H^-1| (Euclidean norm): in a cell
+  sheared by g the box of the Cartesian cube would be (1 + g)/sqrt(1 + g^2) times
+  wider (up to 1.41 at 45 degrees) and refuse spheres that fit;
 * the wrapped centres s - floor(s) are binned on a grid with at least the largest
   box width per cell, periodic in all three directions;
 * two bodies are a potential pair when their boxes overlap for the nearest image,
   |d - round(d)| <= hw1 + hw2 on every axis with d = s1 - s2 (wrapped).
 
-A body wider than half the cell in fractional coordinates would meet itself or a
-partner twice; like YADE, this is an error.
+A body wider than half the cell along an axis could meet a partner through two
+images, of which only the nearest is kept. YADE 2023.02a's rule (measured:
+tests/reference/yade/periodic_span.py) is followed: a pair of potential partners
+i < j is refused when body j spans over half the cell along an axis of the cell's
+frame (2 hw_k > 1/2), or body i over 0.99 of it (YADE aborts there); a lone wide body,
+or the smaller id of a pair, is accepted. ``allowBiggerThanPeriod`` lifts the rule:
+then every pair is taken through its nearest image. (YADE widens a sphere's box in a
+sheared cell a little more than its exact extent, 1 + g^2/2 against sqrt(1 + g^2) for
+a shear g, so near the limit YADE may refuse a sphere that granum accepts.)
 """
 
 from __future__ import annotations
@@ -24,22 +35,37 @@ import numpy as np
 
 from granum._jit import BLOCK, PARALLEL_THRESHOLD, jit, kernel, prange
 from granum.core.records import borrow
+from granum.core.shapes import ShapeKind
 from granum.kernels.pairing import may_collide
 from granum.kernels.schedule import block_queue, next_block, queue_workers
 from granum.kernels.sorting import argsort_keys
 from granum.physics.vec import inv3
 
+#: the widest span along an axis, in cells, of the body of larger id of a pair (YADE's check)
+HALF_CELL = 0.5
+#: the widest span of the body of smaller id (YADE 2023.02a asserts below 0.99 of the cell)
+WHOLE_CELL = 0.99
+_SPHERE = int(ShapeKind.SPHERE)
+
 
 @jit
 def fractional_boxes(S, nb):
-    """Centres (wrapped) ``s``, their cell offsets ``p`` and half-widths ``hw`` in fractional coordinates."""
+    """Centres (wrapped) ``s``, their cell offsets ``p`` and half-widths ``hw`` in fractional coordinates,
+    (nb, 3) each; ``hw`` is -1 for a body without a bound."""
     hinv = inv3(S.cell_hsize)
+    row_norm = np.zeros(3)  # |row k of H^-1|: the fractional half-width of a ball of unit radius
+    for k in range(3):
+        row_norm[k] = math.sqrt(hinv[k, 0] ** 2 + hinv[k, 1] ** 2 + hinv[k, 2] ** 2)
     s = np.zeros((nb, 3))
     p = np.zeros((nb, 3), np.int64)
     hw = np.full((nb, 3), -1.0)
     for i in range(nb):
         if not S.bound_min[i, 0] <= S.bound_max[i, 0]:
             continue
+        ball = 0.0  # the radius of a sphere's bound (a cube around the ball) [m]; 0: not a sphere
+        if S.shape_kind[i] == _SPHERE:
+            for j in range(3):
+                ball = max(ball, 0.5 * (S.bound_max[i, j] - S.bound_min[i, j]))
         for k in range(3):
             acc = 0.0
             half = 0.0
@@ -50,8 +76,21 @@ def fractional_boxes(S, nb):
             fl = math.floor(acc)
             s[i, k] = acc - fl
             p[i, k] = int(fl)
-            hw[i, k] = half
+            hw[i, k] = ball * row_norm[k] if ball > 0.0 else half
     return s, p, hw
+
+
+@jit
+def too_wide_pair(pairs, hw):
+    """``(body, axis)`` of the first pair (in order) that YADE refuses (see the module docstring), or
+    ``(-1, -1)``."""
+    for n in range(pairs.shape[0]):
+        for a in range(3):
+            if 2.0 * hw[pairs[n, 1], a] > HALF_CELL:
+                return pairs[n, 1], a
+            if 2.0 * hw[pairs[n, 0], a] > WHOLE_CELL:
+                return pairs[n, 0], a
+    return -1, -1
 
 
 @jit
@@ -147,17 +186,17 @@ partners, partners_par = kernel(_partners)
 
 
 @jit
-def find_pairs_periodic(S, nb, avoid_self):
-    """Pairs (i < j) with overlapping boxes for the nearest image: ``(pairs, start, cells, too_large)``.
+def find_pairs_periodic(S, nb, avoid_self, allow_bigger):
+    """Pairs (i < j) with overlapping boxes for the nearest image: ``(pairs, start, cells, too_large, axis)``.
 
-    ``too_large`` is the id of a body wider than half the cell (then nothing else is valid), else -1.
+    ``too_large`` is the id of a body too wide for a partner (:func:`too_wide_pair`; then the pairs are not
+    valid) and ``axis`` the cell axis it is too wide along, else -1 and -1; ``allow_bigger``: YADE's
+    ``allowBiggerThanPeriod``, no body is too wide.
     """
     s, p, hw = fractional_boxes(S, nb)
     width = np.zeros(3)
     for i in range(nb):
         for a in range(3):
-            if hw[i, a] >= 0.25:
-                return np.zeros((0, 2), np.int32), np.zeros(nb + 1, np.int64), np.zeros((0, 3), np.int32), i
             width[a] = max(width[a], 2.0 * hw[i, a])
     dims = np.ones(3, np.int64)
     for a in range(3):
@@ -194,4 +233,7 @@ def find_pairs_periodic(S, nb, avoid_self):
         partners_par(S, nb, s, p, hw, cell, dims, order, start_cell, avoid_self, count, start, out, out_cell)
     else:
         partners(S, nb, s, p, hw, cell, dims, order, start_cell, avoid_self, count, start, out, out_cell)
-    return out, start, out_cell, -1
+    if not allow_bigger and max(width[0], width[1], width[2]) > HALF_CELL:
+        body, axis = too_wide_pair(out, hw)
+        return out, start, out_cell, body, axis
+    return out, start, out_cell, -1, -1

@@ -5,7 +5,14 @@ radius r of the body's side) has the diagonal translational and rotational stiff
 (Chareyre & Villard 2005; YADE's documentation, eq. (3.5,32))
 
 .. math::
-    K_w = \\sum_c (k_n - k_s) n_w^2 + k_s,\\qquad K^R_w = \\sum_c k_s (1 - n_w^2) r^2 \\qquad (w = x, y, z).
+    K_w = \\sum_c (k_n - k_s) n_w^2 + k_s,\\qquad
+    K^R_w = \\sum_c \\big(k_s r^2 + k_r\\big)(1 - n_w^2) + k_{tw} n_w^2 \\qquad (w = x, y, z),
+
+k_r and k_tw the rolling (bending) and twisting stiffnesses [N m/rad] of the contacts whose physics is a
+RotStiffFrictPhys (CohFrictPhys, MindlinPhys: YADE counts them whether or not the law applies moments,
+``momentRotationLaw``, ``includeMoment``), 0 for the others. A bending spring resists rotations about the
+axes normal to n, the twisting spring rotations about n (YADE 2023.02a, measured on two spheres with rolling
+and twisting stiffness and oblique normals: tests/reference/yade/timestepper_rot.py).
 
 Each degree of freedom is taken as an uncoupled oscillator of critical step √2·√(m/K) (eq. (3.5,30)), so
 
@@ -62,11 +69,12 @@ class TimeStepperParams(NamedTuple):
     max_dt: float             #: largest step [s]
     visc_el: bool             #: add the dashpots of ViscElPhys contacts
     viscel_phys: np.ndarray   #: 1 where the Ip2 functor of that code makes a ViscElPhys, (nphys,) uint8
+    rot_columns: np.ndarray   #: contact columns of k_r and k_tw per Ip2 functor code, -1: none, (nphys, 2) int64
     state: np.ndarray         #: (1,) float64: the previous computed step [s] (``previousDt``), NEVER before
 
 
 @jit
-def body_time_step(i, S, C, safety, visc_el, viscel_phys):
+def body_time_step(i, S, C, safety, visc_el, viscel_phys, rot_columns):
     """Critical step of body ``i`` times ``safety`` [s] (see the module docstring); inf without contacts.
     ``S``, ``C``: raw views. The sums are scalars: no array per body."""
     kx = ky = kz = 0.0     # translational stiffness K_w [N/m]
@@ -86,9 +94,15 @@ def body_time_step(i, S, C, safety, visc_el, viscel_phys):
         kx += (kn - ks) * nx + ks
         ky += (kn - ks) * ny + ks
         kz += (kn - ks) * nz + ks
-        rx += ks * (1.0 - nx) * r2
-        ry += ks * (1.0 - ny) * r2
-        rz += ks * (1.0 - nz) * r2
+        bend = ks * r2         # resists rotations about the axes normal to n [N m]
+        twist = 0.0            # resists rotations about n [N m]
+        kr_col = rot_columns[con_i[c, I_PHYS], 0]
+        if kr_col >= 0:
+            bend += con_f[c, kr_col]
+            twist = con_f[c, rot_columns[con_i[c, I_PHYS], 1]]
+        rx += bend * (1.0 - nx) + twist * nx
+        ry += bend * (1.0 - ny) + twist * ny
+        rz += bend * (1.0 - nz) + twist * nz
         if damped and viscel_phys[con_i[c, I_PHYS]] != 0:
             cn = con_f[c, F_CN]
             cs = con_f[c, F_CS]
@@ -126,22 +140,22 @@ def body_time_step(i, S, C, safety, visc_el, viscel_phys):
 
 
 @jit
-def step_block(b, S, C, nb, safety, visc_el, viscel_phys, out):
+def step_block(b, S, C, nb, safety, visc_el, viscel_phys, rot_columns, out):
     """Smallest step (:func:`body_time_step`) of the free bodies of block ``b`` into ``out[b]`` (inf: none)."""
     best = math.inf
     alive, blocked, clump_id = S.alive, S.blocked, S.clump_id
     for i in range(b * BLOCK, min(nb, (b + 1) * BLOCK)):
         if alive[i] and blocked[i] != DOF_ALL and (clump_id[i] < 0 or clump_id[i] == i):
-            best = min(best, body_time_step(i, S, C, safety, visc_el, viscel_phys))
+            best = min(best, body_time_step(i, S, C, safety, visc_el, viscel_phys, rot_columns))
     out[b] = best
 
 
-def _steps(S, C, nb, safety, visc_el, viscel_phys, out):
+def _steps(S, C, nb, safety, visc_el, viscel_phys, rot_columns, out):
     queue = block_queue((nb + BLOCK - 1) // BLOCK)
     for w in prange(queue_workers(queue)):
         b = next_block(queue, w, -1)
         while b >= 0:
-            step_block(b, S, C, nb, safety, visc_el, viscel_phys, out)
+            step_block(b, S, C, nb, safety, visc_el, viscel_phys, rot_columns, out)
             b = next_block(queue, w, b)
 
 
@@ -182,9 +196,9 @@ def stiffness_time_step_stage(S, C, P):
         build_csr(C, nb)
     out = np.empty((nb + BLOCK - 1) // BLOCK)
     if nb < PARALLEL_THRESHOLD:
-        steps(raw(S), raw(C), nb, P.safety, P.visc_el, P.viscel_phys, out)
+        steps(raw(S), raw(C), nb, P.safety, P.visc_el, P.viscel_phys, P.rot_columns, out)
     else:
-        steps_par(raw(S), raw(C), nb, P.safety, P.visc_el, P.viscel_phys, out)
+        steps_par(raw(S), raw(C), nb, P.safety, P.visc_el, P.viscel_phys, P.rot_columns, out)
     best = math.inf
     for b in range(out.shape[0]):
         best = min(best, out[b])
