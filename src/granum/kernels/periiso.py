@@ -15,9 +15,10 @@ A = (s_1 s_2, s_0 s_2, s_0 s_1):
   (g_k K without keepProportions) when K > 0, and the stress test below reads the prediction;
 * the growth g_k becomes the velocity gradient L_kk = g_k / (dt s_k) (the diagonal only);
 * the stress counts as reached when |(mean(sigma) - goal)/goal| <= 5e-3 (each sigma_k without
-  keepProportions); then the unbalanced force (recomputed every ``globalUpdateInt`` steps) below
-  ``maxUnbalanced`` moves ``state`` to the next stress, and after the last one the engine's Python
-  ``doneHook`` runs after the step.
+  keepProportions); then the unbalanced force below ``maxUnbalanced`` moves ``state`` to the next stress. It
+  is measured only at steps that are multiples of ``globalUpdateInt`` and is -1 from the start and after each
+  transition, so a stress reached between those steps passes at once (as in YADE 2023.02a); after the last
+  stress the engine's Python ``doneHook`` runs after the step.
 
 ``charLen`` <= 0 is set at the first step to the mean size of body 0's bound, ``maxSpan`` <= 0 to
 the largest extent of any bound; the cell may not become smaller than 2.1 maxSpan. These are YADE
@@ -184,7 +185,9 @@ def peri_iso_stage(S, C, P):
         S.cell_velgrad[k, k] = grow[k] / (dt * size[k])
     if not reached:
         return
-    if S.iscal[SI_ITER] % P.global_update_int == 0 or out[P_UNBALANCED] < 0.0:
+    # YADE measures the unbalanced force only at multiples of globalUpdateInt: reached between them, the stress
+    # passes on the -1 left by the last transition (measured: randomDensePack's cell moves on at iter 457)
+    if S.iscal[SI_ITER] % P.global_update_int == 0:
         out[P_UNBALANCED] = unbalanced_force(S, fsum, nc)
     if out[P_UNBALANCED] < P.max_unbalanced:
         out[P_STATE] = state + 1

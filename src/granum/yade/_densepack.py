@@ -11,18 +11,22 @@ script's scene is left untouched (a run in progress refuses the switch: "Please 
   .6, globalUpdateInt 5; Verlet distance .05 r): YADE 2023.02a's set-up, read from its scene after a call.
   ``randomDensePack`` then repeats the cell (``cellFill``) over the predicate's box. randomDensePack's cell
   has the predicate box's proportions and the volume of ``spheresInCell`` spheres at porosity 0.75.
-* Aperiodic (``randomDensePack`` without ``spheresInCell``): YADE runs its TriaxialTest; granum compacts a
-  cloud between six fixed walls by growing the radii (TriaxialStressController's ``internalCompaction``,
-  FrictMat E 15 MPa, friction 1 degree, to -40 kPa and an unbalanced force below .02) in a box 4 radii
-  larger on each side than the one requested (the layers along the walls are looser), then scales the packing
-  so that its mean radius is ``radius``. YADE's radii come out 1.44 times ``radius`` (0.072 for 0.05 in a unit
-  box): its TriaxialTest sizes its box from the radius; granum keeps the radius the docstring promises.
+* Aperiodic (``randomDensePack`` without ``spheresInCell``), YADE's rules (measured on its calls): a
+  TriaxialTest of N = int(0.6 V / (4/3 pi radius^3)) spheres (V: the volume of the box requested, ``cropLayers``
+  included), ``radiusMean=radius``, ``upperCorner`` the box; TriaxialTest scales that box to hold the cloud at
+  porosity 0.8, i.e. to 3 V, so the spheres, grown by ``internalCompaction`` to -40 kPa (friction 1 degree) and
+  unloaded by the walls to -500 Pa, end about 3^(1/3) = 1.44 times ``radius`` (0.072 for 0.05). YADE returns
+  that packing unscaled, and so does granum: same count, radii and porosity for the same call. It runs by 500
+  steps until the unbalanced force is at most .005.
 * ``memoizeDb``: an SQLite file (stdlib ``sqlite3``) of packings already made, with centres and radii as
   little-endian float64 blobs (no pickle: reading a file runs no code). A request reuses the stored packing
   with the fewest spheres among those of the same kind (periodic or not, same ``rRelFuzz``) that, scaled to
   the requested radius, are large enough: a periodic one for ``spheresInCell`` holds at least that many
   spheres, an aperiodic one covers the requested box, a ``randomPeriPack`` one was made for the same
-  ``initSize``. The table is ``granum_packings``; YADE's own table in the same file is left alone.
+  ``initSize``. A row keeps the requested radius and box (as YADE's rows do), so an aperiodic packing reused
+  for half the radius is the stored one scaled by 1/2. The table is ``granum_packings``; YADE's own table in
+  the same file (pickles) is left alone. YADE 2023.02a never reuses an aperiodic packing (it compacts again
+  and adds a row each call); granum reuses it, as YADE's documentation says.
 """
 
 from __future__ import annotations
@@ -42,11 +46,15 @@ PERI_STRESSES = [-100e9, -1e8]
 #: randomDensePack's periodic cell holds ``spheresInCell`` spheres of ``radius`` at this porosity (YADE's
 #: initial cells: 0.8565^3 for 300 spheres of .05, the box's proportions, no account of rRelFuzz)
 CELL_POROSITY = 0.75
-#: aperiodic compaction: goal mean stress [Pa], unbalanced force to stop at [-], friction [rad]
-WALL_STRESS, WALL_UNBALANCED, WALL_FRICTION = -4e4, 0.02, math.radians(1.0)
-#: aperiodic compaction: porosity assumed for the dense packing when sizing the cloud [-]; margin added on each
-#: side of the box, in radii, so that the packing kept is away from the walls' looser layers
-DENSE_POROSITY, WALL_MARGIN = 0.36, 4.0
+#: aperiodic compaction, YADE 2023.02a's TriaxialTest call (read from its scene and the call's arguments): the
+#: spheres of mean ``radius`` would fill this fraction of the requested box [-]; the stress their growth reaches
+#: and the one the walls then unload to [Pa]; friction during the growth [deg], the unbalanced force ending
+#: it [-]; TriaxialTest's strain rate [1/s], wall speed [m/s] and size of the walls' faces over the box's [-]
+BOX_SOLID_FRACTION, BOX_STRESS, BOX_UNLOAD_STRESS = 0.6, -4e4, -500.0
+BOX_FRICTION_DEG, BOX_STABILITY, BOX_STRAIN_RATE, BOX_WALL_VELOCITY, BOX_WALL_OVERSIZE = 1.0, 0.02, 0.2, 0.1, 1.5
+#: the aperiodic compaction runs by chunks of this many steps until the unbalanced force is at most this
+#: (YADE's stop rule, measured by substituting the unbalanced force it reads: .005 stops, 0.0050000001 goes on)
+BOX_CHUNK, BOX_UNBALANCED = 500, 0.005
 TABLE = "granum_packings"
 
 
@@ -166,6 +174,7 @@ def memo_store(path, sp, kind, radius, rRelFuzz, dims) -> None:
                    (float(radius), float(rRelFuzz), *map(float, dims), len(r), int(sp.isPeriodic), kind,
                     *map(float, cell), time.time(), c.tobytes(), r.tobytes()))
     db.close()
+    print("Packing saved to the database", path)
 
 
 def memo_load(path, kind, radius, rRelFuzz, dims, spheresInCell=0):
@@ -273,7 +282,8 @@ def randomDensePack(predicate, radius, material=-1, dim=None, cropLayers=0, rRel
     """Spheres of mean ``radius`` (uniform in radius (1 +- rRelFuzz)) densely filling ``predicate`` (or a box
     of size ``dim``), made by a DEM compaction in the alternative scene (see the module docstring):
     periodic with ``spheresInCell`` spheres per cell repeated over the box, otherwise between walls
-    (``cropLayers`` layers of 2 radius added around the box). Returns what :func:`filterSpherePack` does
+    (``cropLayers`` layers of 2 radius added around the box; the spheres then come out about 1.44 times
+    ``radius``, as YADE's do). Returns what :func:`filterSpherePack` does
     (bodies with ``material``/``color``, or a SpherePack with ``returnSpherePack``)."""
     radius, rRelFuzz = _positive(radius, "radius"), _fuzz(rRelFuzz)
     if useOBB:
@@ -304,7 +314,6 @@ def randomDensePack(predicate, radius, material=-1, dim=None, cropLayers=0, rRel
     else:
         sp = memo_load(memoizeDb, "box", radius, rRelFuzz, full)
         if sp is None:
-            print("No suitable packing in database found, running triaxial compaction")
             with _OtherScene() as O:
                 sp = _compact_in_box(O, full, radius, rRelFuzz, seed)
             memo_store(memoizeDb, sp, "box", radius, rRelFuzz, full)
@@ -312,46 +321,32 @@ def randomDensePack(predicate, radius, material=-1, dim=None, cropLayers=0, rRel
 
 
 def _compact_in_box(O, full, radius, rRelFuzz, seed):
-    """A cloud in a box compacted by growing radii between six walls; the packing scaled to mean radius
-    ``radius`` (an aperiodic SpherePack covering ``full``)."""
-    import granum.yade as y
+    """YADE's aperiodic compaction (see the module docstring) in the current (alternative) scene: a
+    TriaxialTest of ``BOX_SOLID_FRACTION`` times ``full``'s volume in spheres of ``radius``, its radii grown to
+    ``BOX_STRESS`` and the walls then unloaded to ``BOX_UNLOAD_STRESS``, run by ``BOX_CHUNK`` steps until the
+    unbalanced force is at most ``BOX_UNBALANCED``; the packing as it is then (an aperiodic SpherePack, radii
+    about 1.44 ``radius``)."""
     from granum.yade import pack, utils
+    from granum.yade.preprocessors import TriaxialTest
 
-    box = full + 2 * WALL_MARGIN * radius
-    mean_volume = 4.0 / 3.0 * math.pi * radius ** 3 * (1 + rRelFuzz ** 2)
-    num = max(1, int(math.ceil(np.prod(box) * (1 - DENSE_POROSITY) / mean_volume)))
-    sp = pack.SpherePack()
-    sp.makeCloud(Vector3(0, 0, 0), Vector3(*box), -1, rRelFuzz, num, False, 0.8, seed=seed)
-    O.materials.append(y.FrictMat(young=15e6, poisson=0.5, frictionAngle=WALL_FRICTION, density=2600))
-    O.bodies.append(utils.aabbWalls([Vector3(0, 0, 0), Vector3(*box)], thickness=0.0))
-    ids = sp.toSimulation()
-    ctrl = y.TriaxialStressController(internalCompaction=True, goal1=WALL_STRESS, goal2=WALL_STRESS,
-                                      goal3=WALL_STRESS, stressMask=7, thickness=0.0, label="_densepack_ctrl")
-    O.engines = [y.ForceResetter(), y.InsertionSortCollider([y.Bo1_Sphere_Aabb(), y.Bo1_Box_Aabb()]),
-                 y.InteractionLoop([y.Ig2_Sphere_Sphere_ScGeom(), y.Ig2_Box_Sphere_ScGeom()],
-                                   [y.Ip2_FrictMat_FrictMat_FrictPhys()], [y.Law2_ScGeom_FrictPhys_CundallStrack()]),
-                 y.GlobalStiffnessTimeStepper(timestepSafetyCoefficient=0.8), ctrl, y.NewtonIntegrator(damping=0.2),
-                 y.PyRunner(iterPeriod=100, command=f"from granum.yade import _densepack; "
-                                                    f"_densepack._compacted(O.engines[4], {WALL_STRESS!r})")]
-    O.dt = 0.5 * utils.PWaveTimeStep()
-    O.run()
-    O.wait()
-    c = np.array([list(O.bodies[i].state.pos) for i in ids])
-    r = np.array([O.bodies[i].shape.radius for i in ids])
-    scale = radius / r.mean()   # the radii grew together: their spread is still rRelFuzz
+    grains = int(BOX_SOLID_FRACTION * float(np.prod(full)) / (4.0 / 3.0 * math.pi * radius ** 3))
+    if grains < 1:
+        raise ValueError(f"randomDensePack: radius {radius!r} is too large for a packing of dimension "
+                         f"{tuple(full)} (no sphere)")
+    TriaxialTest(numberOfGrains=grains, radiusMean=radius, radiusStdDev=rRelFuzz, lowerCorner=Vector3(0, 0, 0),
+                 upperCorner=Vector3(*full), seed=seed, noFiles=True, sigmaIsoCompaction=BOX_STRESS,
+                 sigmaLateralConfinement=BOX_UNLOAD_STRESS, compactionFrictionDeg=BOX_FRICTION_DEG,
+                 StabilityCriterion=BOX_STABILITY, strainRate=BOX_STRAIN_RATE, thickness=0.0,
+                 maxWallVelocity=BOX_WALL_VELOCITY, wallOversizeFactor=BOX_WALL_OVERSIZE, autoUnload=True,
+                 autoCompressionActivation=False, internalCompaction=True).load()
+    while True:   # YADE tests after each chunk (not before the first: no contact yet, unbalanced force NaN)
+        O.run(BOX_CHUNK, True)
+        unbalanced = utils.unbalancedForce()
+        if unbalanced <= BOX_UNBALANCED:   # NaN (no contact) goes on, as in YADE
+            break
     out = pack.SpherePack()
-    out.fromList(c * scale, r * scale)
+    out.fromSimulation()
     return out
-
-
-def _compacted(ctrl, goal) -> None:
-    """The aperiodic compaction's stop test (run every 100 steps): mean stress within 5 % of the goal and the
-    unbalanced force below WALL_UNBALANCED."""
-    from granum.yade import utils
-    from granum.yade.omega import O
-
-    if abs(ctrl.meanStress / goal - 1) < 0.05 and utils.unbalancedForce() < WALL_UNBALANCED:
-        O.pause()
 
 
 def _positive(value, name):
