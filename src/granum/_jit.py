@@ -29,6 +29,7 @@ import contextlib
 import hashlib
 import os
 import pathlib
+import re
 import shutil
 import threading
 import time
@@ -83,7 +84,8 @@ def _choose_path() -> tuple[bool, str | None]:
     try:
         from granum import _linking
     except (ImportError, AttributeError) as e:   # a name _linking imports, or a base class it extends, is gone
-        return True, str(e)
+        name = re.search(r"cannot import name '(\w+)'", str(e)) if isinstance(e, ImportError) else None
+        return True, f"{e.name}.{name[1]}" if name and e.name else str(e)
     missing = _linking.missing_internal()
     return missing is not None, missing
 
