@@ -17,7 +17,7 @@
   :func:`granum._linking.missing_internal` probes at import. When one is missing
   (with one :class:`CompileFallbackWarning` naming it), or with
   ``GRANUM_COMPILE=fallback``, kernels compile on the *plain* path: ordinary
-  ``@njit`` functions, compiled one process, and a step loop in Python that calls
+  ``@njit`` functions, compiled in one process, and a step loop in Python that calls
   the stages' entry points (:class:`granum.kernels.steploop.PlainLoop`). Same
   results, bit for bit; slower first runs, and a few microseconds more per step.
   Its code is cached apart.

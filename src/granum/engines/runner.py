@@ -85,8 +85,9 @@ class Plan:
 
         The first time for the types of the scene, contacts and parameters, the functions the loop calls
         (the stages, the cell's step boundaries) are loaded from the disk cache or compiled, on two processes
-        (:func:`granum.kernels.steploop.loop`), and the loop is generated to call their symbols. Its entry point
-        is kept per argument types: calls skip Numba's typing.
+        (:func:`granum.kernels.steploop.loop`), and the loop is generated to call their symbols (on the plain
+        compile path, a Python loop calls their entry points). It is kept per argument types: calls skip Numba's
+        typing.
         """
         key = _type_key(args)
         loop = self._loops.get(key)

@@ -37,7 +37,7 @@ import importlib
 import time
 
 from granum._codegen import import_line, load_module
-from granum._jit import PLAIN, entry, entry_points, jit
+from granum._jit import PLAIN, call, entry, entry_points, jit
 from granum.core.arrays import S_TIME, SI_HOOK
 from granum.core.contacts import C_STATUS
 from granum.kernels.cell import step_begin, step_end
@@ -174,7 +174,7 @@ class PlainLoop:
         return True
 
     def __call__(self, nmax, segment, S, C, PP, stop_time, virt_last, virt_period, timing, times):
-        scal, iscal, ctr = _counters(S, C)
+        scal, iscal, ctr = call(_counters, S, C)
         if segment >= 0:
             ok = self._segment(segment, S, C, PP, ctr, timing, times)
             return 0, WHY_DONE if ok else WHY_ERROR
