@@ -71,6 +71,7 @@ SCENES = {"frictional box with clumps": (_frictional_box_with_clumps, 1500),
           "periodic compression": (_periodic_compression, 3000)}
 
 
+@pytest.mark.fallback
 @pytest.mark.parametrize("scene", SCENES)
 @pytest.mark.parametrize("fmt", ["scene.yade", "scene.xml.bz2", "scene.h5"])
 def test_load_and_continue_equals_the_uninterrupted_run_bitwise(yade, tmp_path, scene, fmt):

@@ -101,12 +101,12 @@ a = np.linspace(0.0, 1.0, 7)
 parent = os.getpid()
 CHILD = None
 if CHILD is not None:   # the child process misbehaves when it takes a part
-    compile_here = _compile._compile
+    compile_here = _compile.compile_each
     def _compile_part(d, sigs):
         if os.getpid() != parent:
             exec(CHILD)
         compile_here(d, sigs)
-    _compile._compile = _compile_part
+    _compile.compile_each = _compile_part
     _compile.MIN_WAIT = 1.0
     _compile.PATIENCE = 1.0
 symbols = _jit.entry_points([(kern.part_a, [(a,)]), (kern.part_b, [(a,)])])

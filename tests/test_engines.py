@@ -169,6 +169,7 @@ def test_tags_hold_an_id_and_user_values(yade):
     assert dict(yade.O.tags)["run"] == "a"
 
 
+@pytest.mark.fallback
 def test_timing_enabled_times_every_engine(yade, capsys):
     """O.timingEnabled: compiled stages are timed inside the step loop, PyRunners when they run
     (real YADE 2023.02a counts 99 runs of an iterPeriod=100 PyRunner over 10000 steps)."""

@@ -5,6 +5,7 @@ step."""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from conftest import frict_engines
 
 
@@ -20,6 +21,7 @@ def _state(y):
     return b.pos[:n].copy(), b.vel[:n].copy(), b.ang_vel[:n].copy()
 
 
+@pytest.mark.fallback
 def test_sub_steps_give_the_bits_of_whole_steps(yade):
     y = yade
     _scene(y)

@@ -58,6 +58,7 @@ def _run_until_state(y, triax, state, limit=6000):
     return seen
 
 
+@pytest.mark.fallback
 def test_state_machine_compaction_unloading_loading(yade, tmp_path, monkeypatch):
     """1 -> 2 -> 3 as YADE: each stage ends at a check step with the unbalanced force below StabilityCriterion
     and the mean stress at σ_iso; the end of the compaction sets σ_iso to the lateral stress, the friction of the

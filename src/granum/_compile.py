@@ -27,8 +27,6 @@ import threading
 import time
 import warnings
 
-from granum import _linking
-
 #: A child that has not finished this long after the parent finished its own parts (and at least
 #: :data:`PATIENCE` times as long as the parent took) is taken as stuck: the parent compiles the rest [s].
 MIN_WAIT = 60.0
@@ -72,20 +70,22 @@ def _claim(folder: str, k: int) -> bool:
         return False
 
 
-def _compile(dispatcher, signatures) -> None:
+def compile_each(dispatcher, signatures) -> None:
     """Compile ``dispatcher`` for each argument-type tuple of ``signatures`` (or load it from the cache)."""
     for sig in signatures:
         dispatcher.compile(sig)
 
 
-def compile_parts(parts: list[tuple[object, list[tuple]]]) -> None:
+def compile_parts(parts: list[tuple[object, list[tuple]]], load_cached) -> None:
     """Compile the entry points ``parts`` (``(dispatcher, [argument types, ...])``), each cached on disk,
-    on up to :func:`processes` processes. The caller holds the compile lock (:func:`granum._jit.compile_lock`)."""
-    todo = [(d, [s for s in sigs if not _linking.load_cached(d, s)]) for d, sigs in parts]
+    on up to :func:`processes` processes. ``load_cached(dispatcher, argument types)`` loads a part from the
+    disk cache if it is there and says whether it was (:func:`granum._linking.load_cached`). The caller holds
+    the compile lock (:func:`granum._jit.compile_lock`)."""
+    todo = [(d, [s for s in sigs if not load_cached(d, s)]) for d, sigs in parts]
     todo = sorted(((d, s) for d, s in todo if s), key=lambda p: -reach(p[0]))
     if processes() < 2 or len(todo) < 2 or not _fork_is_safe():
         for d, sigs in todo:
-            _compile(d, sigs)
+            compile_each(d, sigs)
         return
     with tempfile.TemporaryDirectory(prefix="granum-claims-") as folder:
         with warnings.catch_warnings():   # Python >= 3.12 warns about forking with threads: the child only compiles
@@ -96,7 +96,7 @@ def compile_parts(parts: list[tuple[object, list[tuple]]]) -> None:
             try:
                 for k, (d, sigs) in enumerate(todo):
                     if _claim(folder, k):
-                        _compile(d, sigs)
+                        compile_each(d, sigs)
                 status = 0
             finally:
                 os._exit(status)
@@ -104,12 +104,12 @@ def compile_parts(parts: list[tuple[object, list[tuple]]]) -> None:
         try:
             for k, (d, sigs) in enumerate(todo):
                 if _claim(folder, k):
-                    _compile(d, sigs)
+                    compile_each(d, sigs)
             _wait(pid, max(MIN_WAIT, PATIENCE * (time.monotonic() - start)))
         finally:
             _stop(pid)
     for d, sigs in todo:   # the child's parts come from the disk cache (compiled here if it failed)
-        _compile(d, sigs)
+        compile_each(d, sigs)
 
 
 def _fork_is_safe() -> bool:

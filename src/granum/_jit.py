@@ -4,9 +4,23 @@
   the cached function itself, not to the functions it calls in other modules, so the
   cache directory is keyed by a hash of all granum sources: any edit to granum starts
   a fresh cache and a stale kernel can never be loaded.
+  Only granum's own functions are cached there: Numba's cache folder is set while
+  granum decorates a function, and restored (a user's ``@njit(cache=True)`` keeps
+  Numba's own rules).
 * :func:`kernel` compiles one Python function twice, serially and with ``prange``
   parallelism. Callers pick the variant by problem size only (never by thread
   count), so results are bitwise independent of the number of threads.
+* Two compile paths. The *fast* path links compiled functions into their callers
+  once (:mod:`granum._linking`), compiles a first run's stages on two processes
+  (:mod:`granum._compile`) and fuses the stages of a step into one compiled loop
+  that calls them by symbol. It relies on Numba internals, which
+  :func:`granum._linking.missing_internal` probes at import. When one is missing
+  (with one :class:`CompileFallbackWarning` naming it), or with
+  ``GRANUM_COMPILE=fallback``, kernels compile on the *plain* path: ordinary
+  ``@njit`` functions, compiled in one process, and a step loop in Python that calls
+  the stages' entry points (:class:`granum.kernels.steploop.PlainLoop`). Same
+  results, bit for bit; slower first runs, and a few microseconds more per step.
+  Its code is cached apart.
 """
 
 from __future__ import annotations
@@ -15,11 +29,18 @@ import contextlib
 import hashlib
 import os
 import pathlib
+import re
 import shutil
+import threading
 import time
 import types
+import warnings
 
 import filelock
+import numba
+from numba import njit, prange
+
+from granum import _compile
 
 _PKG = pathlib.Path(__file__).resolve().parent
 
@@ -48,11 +69,44 @@ def cache_root() -> pathlib.Path:
     return pathlib.Path(base)
 
 
+class CompileFallbackWarning(RuntimeWarning):
+    """Granum compiles on its plain path because the installed Numba lacks an internal the fast path uses."""
+
+
+def _choose_path() -> tuple[bool, str | None]:
+    """Whether kernels compile on the plain path (see the module docstring), and the Numba internal whose
+    absence chose it (None when the environment did, or on the fast path)."""
+    setting = os.environ.get("GRANUM_COMPILE", "").strip()
+    if setting not in ("", "auto", "fallback"):
+        raise ValueError(f"GRANUM_COMPILE must be 'auto' (the default) or 'fallback', not {setting!r}")
+    if setting == "fallback":
+        return True, None
+    try:
+        from granum import _linking
+    except (ImportError, AttributeError) as e:   # a name _linking imports, or a base class it extends, is gone
+        name = re.search(r"cannot import name '(\w+)'", str(e)) if isinstance(e, ImportError) else None
+        return True, f"{e.name}.{name[1]}" if name and e.name else str(e)
+    missing = _linking.missing_internal()
+    return missing is not None, missing
+
+
+#: Whether kernels compile on the plain path (``GRANUM_COMPILE=fallback``, or a Numba without the fast path's
+#: internals); see the module docstring.
+PLAIN, _MISSING = _choose_path()
+if _MISSING is not None:
+    warnings.warn(f"granum: Numba {numba.__version__} lacks {_MISSING}, which granum's fast compile path uses; "
+                  f"kernels compile on the plain path instead (same results, slower first runs; "
+                  f"GRANUM_COMPILE=fallback chooses it without this warning)", CompileFallbackWarning, stacklevel=2)
+if not PLAIN:
+    from granum import _linking
+
+    _linking.enable()
+
 #: ``GRANUM_NOPAR=1`` compiles the parallel variants of the kernels as plain loops, to check them
 #: against the parallel ones; such code is cached apart.
 SERIAL_ONLY = os.environ.get("GRANUM_NOPAR", "") not in ("", "0")
 SOURCE_HASH = source_hash()
-CACHE_DIR = cache_root() / (SOURCE_HASH + ("-nopar" if SERIAL_ONLY else ""))
+CACHE_DIR = cache_root() / (SOURCE_HASH + ("-nopar" if SERIAL_ONLY else "") + ("-plain" if PLAIN else ""))
 
 
 #: A cache directory used within this time is kept even when it is not among the newest [s]: a process of
@@ -81,21 +135,22 @@ def _mark_cache_used() -> None:
     os.utime(CACHE_DIR)
 
 
-def _configure_numba() -> None:
-    import numba
+_mark_cache_used()
+_prune_old_caches()
+_DECORATING = threading.Lock()
 
-    if not os.environ.get("NUMBA_CACHE_DIR"):
-        _mark_cache_used()
+
+@contextlib.contextmanager
+def _granum_cache():
+    """Numba's cache folder set to granum's (:data:`CACHE_DIR`) while functions are decorated: Numba reads it
+    when a dispatcher is made, so the functions made meanwhile are cached there, and no other."""
+    with _DECORATING:
+        saved = numba.config.CACHE_DIR
         numba.config.CACHE_DIR = str(CACHE_DIR / "numba")
-        _prune_old_caches()
-
-
-_configure_numba()
-
-import numba  # noqa: E402
-from numba import njit, prange  # noqa: E402  (after the cache directory is configured)
-
-from granum import _compile, _linking  # noqa: E402
+        try:
+            yield
+        finally:
+            numba.config.CACHE_DIR = saved
 
 # Threading layer: OpenMP first. A step launches several short parallel loops, and TBB's launch
 # overhead made the falling-ball benchmark 2.5x slower with two threads than with one (OpenMP:
@@ -129,9 +184,23 @@ def jit(fn=None, **kw):
     """
     opts = dict(cache=True, nogil=True, error_model="numpy")
     opts.update(kw)
-    if fn is None:
-        return lambda f: _linking.install(njit(**opts)(f))
-    return _linking.install(njit(**opts)(fn))
+
+    def make(f):
+        with _granum_cache():
+            dispatcher = njit(**opts)(f)
+        return dispatcher if PLAIN else _linking.install(dispatcher)
+
+    return make if fn is None else make(fn)
+
+
+def overload(func, **options):
+    """``numba.extending.overload`` for granum's own overloads: on the fast path their implementations compile
+    link-only (:func:`granum._linking.overload`)."""
+    if PLAIN:
+        from numba.extending import overload as numba_overload
+
+        return numba_overload(func, **options)
+    return _linking.overload(func, **options)
 
 
 #: Globals that the serial variant of a kernel resolves to other functions, name -> function (registered by
@@ -207,13 +276,19 @@ def entry(fn, *args):
 def entry_points(calls) -> list[str]:
     """Load or compile the entry points ``calls`` (``(dispatcher, [argument values, ...])``), those missing from
     the disk cache on two processes (:mod:`granum._compile`); their symbols, for callers that call them by
-    symbol (:func:`granum._linking.entry_call`)."""
+    symbol (:func:`granum._linking.entry_call`). On the plain path, this process compiles them one by one
+    (their callees are cached with each of them: two processes would write the same cache files), and there
+    are no symbols to call them by (an empty list)."""
     parts = [(d, [tuple(d.typeof_pyval(a) for a in values) for values in argument_lists])
              for d, argument_lists in calls]
     with compile_lock():
-        _compile.compile_parts(parts)
+        if PLAIN:
+            for d, sigs in parts:
+                _compile.compile_each(d, sigs)
+            return []
+        _compile.compile_parts(parts, _linking.load_cached)
     return [_linking.entry_symbol(d, sig) for d, sigs in parts for sig in sigs]
 
 
-__all__ = ["call", "compile_lock", "entry", "entry_points", "jit", "kernel", "njit", "prange", "BLOCK",
-           "PARALLEL_THRESHOLD", "CACHE_DIR", "SOURCE_HASH"]
+__all__ = ["call", "compile_lock", "entry", "entry_points", "jit", "kernel", "njit", "overload", "prange", "BLOCK",
+           "PARALLEL_THRESHOLD", "CACHE_DIR", "PLAIN", "SOURCE_HASH"]

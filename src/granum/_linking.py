@@ -36,9 +36,14 @@ was compiled against (:func:`entry_symbol`; the step loop's source names the sym
 a recompiled stage gets a new step loop). A cached caller whose callees are not loaded would
 crash the process: only the runner creates such callers, and it always loads the callees first.
 
-Link-only compilation applies to every ``@overload`` implementation compiled in the process
-(:func:`_link_only_overloads`), granum's or not: they are only ever called from compiled code,
-and their results are the same.
+Link-only compilation also applies to the implementations of granum's own ``@overload`` functions
+(:func:`overload`): they are only ever called from compiled code. Other packages' overloads (NumPy's
+in Numba) compile as Numba compiles them.
+
+**Numba's internals.** All this relies on Numba internals outside its documented extension API
+(:data:`INTERNALS`). :func:`missing_internal` probes them; when one is gone (a newer Numba),
+:mod:`granum._jit` compiles on its plain path instead, which uses none of this module. Nothing here
+changes Numba's behaviour until :func:`enable` is called.
 """
 
 from __future__ import annotations
@@ -49,6 +54,7 @@ from numba.core import event as numba_event
 from numba.core.codegen import JITCodeLibrary
 from numba.core.compiler_lock import global_compiler_lock
 from numba.core.imputils import user_function
+from numba.core.registry import CPUDispatcher
 from numba.extending import intrinsic
 
 
@@ -213,33 +219,140 @@ class _TranslatedLibraries(numba_event.Listener):
             _set_environments(cres.library)
 
 
-numba_event.register("numba:compile", _TranslatedLibraries())
+def enable() -> None:
+    """Switch link-only compilation on for this process (:mod:`granum._jit`, once, when the probe passed):
+    from now on, compiling an entry point sets the environments of the link-only code it holds."""
+    numba_event.register("numba:compile", _TranslatedLibraries())
 
 
-def _link_only_overloads() -> None:
-    """Compile the implementations of ``@overload`` functions (NumPy's ``np.zeros``, granum's dispatch...)
-    link-only as well: Numba compiles one for every combination of argument types a kernel uses, and only
-    compiled code calls them. Their argument types are kept (an overload may depend on them)."""
-    from numba.core.registry import CPUDispatcher
-    from numba.core.typing.templates import _OverloadFunctionTemplate
+def overload(func, **options):
+    """``numba.extending.overload(func, **options)`` whose implementations compile link-only, and nothing else
+    changed: only the template made here for ``func`` gets link-only compilation. Their argument types are
+    kept (an overload may depend on them)."""
+    from numba.core.extending import _overload_default_jit_options
+    from numba.core.typing.templates import infer, infer_global, make_overload_template
 
-    generic = _OverloadFunctionTemplate._get_jit_decorator
+    jit_options = {**_overload_default_jit_options, **options.pop("jit_options", {})}
+    strict = options.pop("strict", True)
+    inline = options.pop("inline", "never")
+    prefer_literal = options.pop("prefer_literal", False)
 
-    def _get_jit_decorator(self):
-        jitter = generic(self)
+    def decorate(definition):
+        template = make_overload_template(func, definition, jit_options, strict, inline, prefer_literal, **options)
+        generic = template._get_jit_decorator
 
-        def decorator(**options):
-            make = jitter(**options)
+        def _get_jit_decorator(self):
+            jitter = generic(self)
 
-            def decorate(pyfunc):
-                d = make(pyfunc)
-                return install(d, canonical_types=False) if isinstance(d, CPUDispatcher) else d
+            def decorator(**jit_kw):
+                make = jitter(**jit_kw)
 
-            return decorate
+                def decorate_implementation(pyfunc):
+                    d = make(pyfunc)
+                    return install(d, canonical_types=False) if isinstance(d, CPUDispatcher) else d
 
-        return decorator
+                return decorate_implementation
 
-    _OverloadFunctionTemplate._get_jit_decorator = _get_jit_decorator
+            return decorator
+
+        template._get_jit_decorator = _get_jit_decorator
+        infer(template)
+        infer_global(func, types.Function(template))
+        return definition
+
+    return decorate
 
 
-_link_only_overloads()
+#: The Numba internals this module relies on beyond Numba's documented extension API, as attribute paths:
+#: from a module (``numba...``), from a sample CPU dispatcher (``dispatcher.``) or from a sample code library
+#: (``library.``). :func:`missing_internal` checks them all.
+INTERNALS = (
+    "numba.core.codegen.JITCodeLibrary",
+    "numba.core.compiler.compile_extra",
+    "numba.core.compiler.Flags.no_compile",
+    "numba.core.compiler.Flags.no_cpython_wrapper",
+    "numba.core.compiler.Flags.no_cfunc_wrapper",
+    "numba.core.compiler.CompileResult.fndesc",
+    "numba.core.compiler.CompileResult.library",
+    "numba.core.compiler.CompileResult.environment",
+    "numba.core.compiler.CompileResult.entry_point",
+    "numba.core.compiler.CompileResult.signature",
+    "numba.core.funcdesc.FunctionDescriptor.env_name",
+    "numba.core.funcdesc.FunctionDescriptor.mangled_name",
+    "numba.core.funcdesc.FunctionDescriptor.restype",
+    "numba.core.compiler_lock.global_compiler_lock",
+    "numba.core.event.trigger_event",
+    "numba.core.event.register",
+    "numba.core.event.Listener",
+    "numba.core.imputils.user_function",
+    "numba.core.cgutils.unpack_tuple",
+    "numba.core.sigutils.normalize_signature",
+    "numba.core.typing.make_concrete_template",
+    "numba.core.typing.templates.make_overload_template",
+    "numba.core.typing.templates._OverloadFunctionTemplate._get_jit_decorator",
+    "numba.core.extending._overload_default_jit_options",
+    "numba.core.registry.CPUDispatcher",
+    "dispatcher.targetdescr.options.parse_as_flags",
+    "dispatcher.targetdescr.target_context.insert_user_function",
+    "dispatcher.targetdescr.typing_context",
+    "dispatcher.targetctx",
+    "dispatcher.targetoptions",
+    "dispatcher._compiler._customize_flags",
+    "dispatcher._compiler.pipeline_class",
+    "dispatcher._compiler.fold_argument_types",
+    "numba.core.caching.FunctionCache.load_overload",
+    "dispatcher._cache_hits",
+    "dispatcher.add_overload",
+    "dispatcher.get_call_template",
+    "dispatcher.get_overload",
+    "dispatcher.nopython_signatures",
+    "dispatcher.overloads",
+    "dispatcher.locals",
+    "library._raise_if_finalized",
+    "library._linking_libraries",
+    "library._reload_init",
+    "library._final_module",
+    "library._get_module_for_linking",
+    "library._finalized",
+    "library.codegen.set_env",
+)
+
+
+def _resolve(path: str, samples: dict) -> bool:
+    """Whether attribute path ``path`` (see :data:`INTERNALS`) resolves."""
+    import importlib
+
+    parts = path.split(".")
+    if parts[0] in samples:
+        value, rest = samples[parts[0]], parts[1:]
+    else:   # the longest importable module prefix, then attributes
+        for k in range(len(parts), 0, -1):
+            try:
+                value = importlib.import_module(".".join(parts[:k]))
+            except ImportError:
+                continue
+            rest = parts[k:]
+            break
+        else:
+            return False
+    for name in rest:
+        if not hasattr(value, name):
+            return False
+        value = getattr(value, name)
+    return True
+
+
+def missing_internal(internals=INTERNALS) -> str | None:
+    """The first of ``internals`` (attribute paths, see :data:`INTERNALS`) this process's Numba lacks, or None.
+    Cheap (no compilation): the samples are a dispatcher that is never compiled and an empty code library."""
+    import numba
+    from numba.core.registry import cpu_target
+
+    samples = {"dispatcher": numba.njit(_probe_sample),
+               "library": cpu_target.target_context.codegen().create_library("granum-probe")}
+    return next((path for path in internals if not _resolve(path, samples)), None)
+
+
+def _probe_sample(x):
+    """The function of the sample dispatcher :func:`missing_internal` inspects (never compiled)."""
+    return x

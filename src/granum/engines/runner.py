@@ -14,13 +14,12 @@ wall-clock time (checked at chunk boundaries, hence with the chunk's latency).
 
 from __future__ import annotations
 
-import importlib
 import time
 
 import numba
 import numpy as np
 
-from granum._jit import call, entry, entry_points
+from granum._jit import call
 from granum.core import heap
 from granum.core.arrays import SI_HOOK
 from granum.core.contacts import (
@@ -86,19 +85,14 @@ class Plan:
 
         The first time for the types of the scene, contacts and parameters, the functions the loop calls
         (the stages, the cell's step boundaries) are loaded from the disk cache or compiled, on two processes
-        (:func:`granum._jit.entry_points`), and the loop is generated to call their symbols. Its entry point
-        is kept per argument types: calls skip Numba's typing.
+        (:func:`granum.kernels.steploop.loop`), and the loop is generated to call their symbols (on the plain
+        compile path, a Python loop calls their entry points). It is kept per argument types: calls skip Numba's
+        typing.
         """
         key = _type_key(args)
         loop = self._loops.get(key)
         if loop is None:
-            S, C, PP = args[2:5]
-            calls: dict = {step_begin: [(S,)], step_end: [(S,)]}
-            for e, P in zip(self.compiled, PP, strict=True):
-                module, name = e.stage.split(":")
-                calls.setdefault(getattr(importlib.import_module(module), name), []).append((S, C, P))
-            module = steploop.load(self.segments, entry_points(list(calls.items())))
-            loop = self._loops[key] = entry(module.run_steps, *args)
+            loop = self._loops[key] = steploop.loop(self.segments, args)
         return loop(*args)
 
 

@@ -27,10 +27,9 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from numba.extending import overload
 
 from granum._codegen import import_line, load_module
-from granum._jit import BLOCK, PARALLEL_THRESHOLD, jit, kernel, prange
+from granum._jit import BLOCK, PARALLEL_THRESHOLD, jit, kernel, overload, prange
 from granum.core.arrays import S_PAIR_REF_UNIT, S_VERLET, SI_NBODIES, SI_PERIODIC
 from granum.core.contacts import (
     C_COLLIDE,

@@ -25,10 +25,10 @@ inlined 46 ns.
 from __future__ import annotations
 
 from numba import types
-from numba.extending import overload
 
 import granum.physics  # noqa: F401  (registers the built-in functors)
 from granum._codegen import import_line, load_module
+from granum._jit import overload
 from granum.kernels.static import Static, static_value
 from granum.physics import registry
 

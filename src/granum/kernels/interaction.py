@@ -22,9 +22,8 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from numba.extending import overload
 
-from granum._jit import BLOCK, PARALLEL_THRESHOLD, PARALLEL_THRESHOLD_CONTACTS, jit, kernel, prange
+from granum._jit import BLOCK, PARALLEL_THRESHOLD, PARALLEL_THRESHOLD_CONTACTS, jit, kernel, overload, prange
 from granum.core.arrays import (
     E_ELAST_POT,
     E_PLAST_DISSIP,

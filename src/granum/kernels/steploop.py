@@ -26,11 +26,21 @@ its row of ``times`` (int64, (stages, 2)), in engine order.
 ``PP`` is the tuple of the stages' parameters (named tuples), in engine order. Both functions
 borrow its arrays (:func:`granum.core.records.borrow`; the Python caller owns them),
 so that passing parameters down to parallel loops counts no references.
+
+On granum's plain compile path (:mod:`granum._jit`) nothing is generated: :class:`PlainLoop`
+runs the same steps in Python, calling the stages' entry points (:func:`loop` picks).
 """
 
 from __future__ import annotations
 
+import importlib
+import time
+
 from granum._codegen import import_line, load_module
+from granum._jit import PLAIN, call, entry, entry_points, jit
+from granum.core.arrays import S_TIME, SI_HOOK
+from granum.core.contacts import C_STATUS
+from granum.kernels.cell import step_begin, step_end
 
 WHY_DONE = 0
 WHY_DUE = 1
@@ -108,3 +118,80 @@ def load(segments: list[list[str]], symbols: list[str]):
     """The generated step-loop module for ``segments`` calling the entry points ``symbols`` (compiled on first
     use, cached on disk)."""
     return load_module("steploop", render(segments, symbols))
+
+
+def loop(segments: list[list[str]], args: tuple):
+    """The compiled stages ``segments`` (as in :func:`render`) as a function ``run_steps(*args)`` for arguments of
+    the types of ``args`` (``run_steps``'s, see the module docstring): the generated loop's entry point, or a
+    :class:`PlainLoop` on the plain compile path. The stages and ``step_begin``/``step_end`` are loaded from the
+    disk cache or compiled first (:func:`granum._jit.entry_points`)."""
+    S, C, PP = args[2:5]
+    refs = [ref for seg in segments for ref in seg]
+    stages = [getattr(importlib.import_module(ref.split(":")[0]), ref.split(":")[1]) for ref in refs]
+    calls: dict = {step_begin: [(S,)], step_end: [(S,)]}
+    for stage, P in zip(stages, PP, strict=True):
+        calls.setdefault(stage, []).append((S, C, P))
+    symbols = entry_points(list(calls.items()))
+    if PLAIN:
+        entries = [entry(f, S, C, P) for f, P in zip(stages, PP, strict=True)]
+        return PlainLoop([len(seg) for seg in segments], entries, entry(step_begin, S), entry(step_end, S))
+    return entry(load(segments, symbols).run_steps, *args)
+
+
+@jit
+def _counters(S, C):
+    """The arrays :class:`PlainLoop` reads between stages: the scene's scalars, its integer scalars and the
+    contact counters (compiled code never replaces them, so they stay valid for a whole chunk)."""
+    return S.scal, S.iscal, C.ctr
+
+
+class PlainLoop:
+    """``run_steps`` of the generated module (see the module docstring), looped in Python over the entry points
+    of the stages (the plain compile path): the same calls in the same order, the same comparisons.
+
+    Args:
+        sizes: the number of stages of each segment.
+        stages: the entry points of the stages, in engine order (called with ``(S, C, P)``).
+        begin, end: the entry points of ``step_begin`` and ``step_end`` (called with ``S``).
+    """
+
+    def __init__(self, sizes: list[int], stages: list, begin, end):
+        self.segments = [list(range(sum(sizes[:k]), sum(sizes[:k + 1]))) for k in range(len(sizes))]
+        self.stages = stages
+        self.begin = begin
+        self.end = end
+
+    def _segment(self, k, S, C, PP, ctr, timing, times) -> bool:
+        """Run the stages of segment ``k``; False after a stage that left an error status."""
+        for j in self.segments[k]:
+            t0 = time.monotonic_ns() if timing else 0
+            self.stages[j](S, C, PP[j])
+            if timing:
+                times[j, 0] += time.monotonic_ns() - t0
+                times[j, 1] += 1
+            if ctr[C_STATUS] != 0:
+                return False
+        return True
+
+    def __call__(self, nmax, segment, S, C, PP, stop_time, virt_last, virt_period, timing, times):
+        scal, iscal, ctr = call(_counters, S, C)
+        if segment >= 0:
+            ok = self._segment(segment, S, C, PP, ctr, timing, times)
+            return 0, WHY_DONE if ok else WHY_ERROR
+        done = 0
+        while done < nmax:
+            t = scal[S_TIME]
+            if t >= stop_time:
+                return done, WHY_TIME
+            for j in range(virt_last.shape[0]):
+                if t - virt_last[j] >= virt_period[j]:
+                    return done, WHY_DUE
+            self.begin(S)
+            for k in range(len(self.segments)):
+                if not self._segment(k, S, C, PP, ctr, timing, times):
+                    return done, WHY_ERROR
+            self.end(S)
+            done += 1
+            if iscal[SI_HOOK] != 0:
+                return done, WHY_HOOK
+        return done, WHY_DONE
