@@ -306,11 +306,15 @@ class Runner:
             self.substep()
 
     def run_hooks(self, plan: Plan) -> None:
-        """Run the Python hook a compiled engine asked for during the last step."""
+        """Run the Python hook a compiled engine asked for during the last step, then those of the engines
+        whose stage asked too (:meth:`~granum.engines.base.Engine.hook_due`: one slot names one engine)."""
         k = int(self.scene.iscal[SI_HOOK])
         if k:
             self.scene.iscal[SI_HOOK] = 0
             plan.compiled[k - 1].run_hook(self.omega)
+        for e in plan.compiled:
+            if e.hook_due():
+                e.run_hook(self.omega)
 
     def raise_status(self):
         """Raise the SimulationError of the failure status a kernel left in the contact counters (and clear it)."""
