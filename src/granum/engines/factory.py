@@ -240,8 +240,9 @@ class SpheresFactory(GlobalEngine):
                 if not self.silent:
                     print(f"WARNING {type(self).__name__}: Unable to place new sphere after {self.maxAttempt} "
                           f"attempts!", file=sys.stderr)
-                if self.stopIfFailed:
+                if self.stopIfFailed:   # YADE's: the flow stops and the goal falls back to the mass made
                     self.massFlowRate = 0.0
+                    self.goalMass = self.totalMass
                 return
             if n < cap:
                 return

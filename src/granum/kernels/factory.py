@@ -15,7 +15,8 @@ Rules of YADE 2023.02a, measured as a black box (``tests/reference/yade/factory.
   centre is drawn again (up to ``maxAttempt`` times) while the sphere overlaps a sphere of the scene or one
   made before it in the same step (centre distance < r1 + r2), or its box ``c +- r`` overlaps the bound of
   a body of another shape (a facet's box, not the facet itself);
-- when no place is found the step's production ends (the caller reports it).
+- when no place is found the step's production ends (the caller reports it; with ``stopIfFailed``,
+  ``massFlowRate`` becomes 0 and ``goalMass`` the mass made, and no sphere is made any more).
 
 The random numbers come from SplitMix64 (Steele, Lea and Flood, "Fast splittable pseudorandom number
 generators", OOPSLA 2014) over one 64-bit state word the engine keeps (and checkpoints).
