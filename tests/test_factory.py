@@ -111,6 +111,11 @@ def test_obstacles_like_yade(granum_run):
     assert got["flat_min_gap"] >= 0 and got["sphere_min_gap"] >= 0
 
 
+def test_pyrunners_see_the_step_as_in_yade(granum_run):
+    """A PyRunner after the factory sees the spheres made in its step; one before it, those of the steps before."""
+    assert granum_run["pyrunner"] == REF["pyrunner"]
+
+
 def _scene(y, seed=7, **kw):
     O = y.O
     O.materials.append(y.FrictMat(density=2500))

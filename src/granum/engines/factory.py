@@ -2,10 +2,11 @@
 of the same names; the rules are in :mod:`granum.kernels.factory`).
 
 The compiled stage meters the flow each step; only in a step where spheres are due does the engine's hook run
-(after that step): one compiled call places all of them, and they are appended to the scene's arrays at once.
-YADE makes them inside the step, at the engine's place in the list: an engine placed before NewtonIntegrator
-moves its new spheres in that same step in YADE, in the next one in granum. The new bodies are born at the step
-that made them (``iterBorn``, as YADE's).
+(after that step, or, in a step that runs Python engines, after the compiled segment holding the factory, so
+that a PyRunner after it sees the new spheres as in YADE): one compiled call places all of them, and they are
+appended to the scene's arrays at once. YADE makes them inside the step, at the engine's place in the list: an
+engine placed before NewtonIntegrator moves its new spheres in that same step in YADE, in the next one in
+granum. The new bodies are born at the step that made them (``iterBorn``, as YADE's).
 
 ``vAngle`` has no effect in YADE 2023.02a (every velocity is along ``normalVel``, or ``normal``): granum accepts
 NaN (the default) and 0 and refuses other values. The speed is drawn once per step for all the spheres of that
@@ -212,7 +213,10 @@ class SpheresFactory(GlobalEngine):
         return bool(self._state[k.ST_DUE])
 
     def run_hook(self, omega) -> None:
-        """Place the spheres due in one compiled call and append them to the scene."""
+        """Place the spheres due in one compiled call and append them to the scene (once per step: the runner
+        may call it after the step's segment and again at the step's end)."""
+        if not self._state[k.ST_DUE]:
+            return
         self._state[k.ST_DUE] = 0.0
         scene = omega._scene
         kind, center, frame, size = self.region()

@@ -270,6 +270,9 @@ class Runner:
             self.sync_counters(plan, times)
             if scene.contacts.ctr[C_STATUS]:
                 self.raise_status()
+            for e in plan.compiled:   # the Python engines after this segment see what these hooks add
+                if e.hook_due():
+                    e.run_hook(self.omega)
         elif not item.dead and item.due(scene):
             t0 = time.perf_counter_ns()
             with interrupts.user_code():

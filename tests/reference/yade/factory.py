@@ -2,7 +2,8 @@
 # totalMass, numParticles of equal spheres); velocities (speed per step, normalVel), mask, colour, blockedDOFs,
 # iterBorn; PSD classes by count (deterministic order) and by mass; where centres fall (box: centre +- extents;
 # circle: within radius - r of the axis, uniform in the distance, not the area; +- length/2 along the normal);
-# no overlap among spheres; a facet's bound (not the facet) refuses a place; stopIfFailed, maxParticles, maxMass.
+# no overlap among spheres; a facet's bound (not the facet) refuses a place; stopIfFailed, maxParticles, maxMass;
+# what PyRunners before and after the factory see in its step.
 # Positions are random (YADE seeds its generator itself): only their statistics are compared.
 # Regenerate: cd tests/reference/yade && yade -n -x factory.py
 # YADE 2023.02a
@@ -125,4 +126,17 @@ out['obstacles'] = {'diagonal_n': f.numParticles, 'diagonal_rate': f.massFlowRat
                     'flat_min_gap': min(abs(O.bodies[i].state.pos[2] - 0.02) - 0.005 for i in g.ids),
                     'sphere_n': h.numParticles,
                     'sphere_min_gap': min((O.bodies[i].state.pos - O.bodies[big].state.pos).norm() - 0.035 for i in h.ids)}
+# 6. a PyRunner after the factory sees the spheres made in its step (and one before it does not)
+O.reset()
+O.materials.append(FrictMat(density=2000))
+fsee = BoxFactory(center=(0, 0, 0), extents=(0.5, 0.5, 0.5), rMin=0.01, rMax=0.01, vMin=0, vMax=0, massFlowRate=3.5,
+                  normal=(0, 0, -1), maxParticles=-1, label='fsee')
+O.tags['before'] = ''
+O.tags['after'] = ''
+O.engines = (engines()[:-1] + [PyRunner(iterPeriod=1, command="O.tags['before'] += ' %d' % fsee.numParticles"),
+                               NewtonIntegrator(gravity=(0, 0, 0)), fsee,
+                               PyRunner(iterPeriod=1, command="O.tags['after'] += ' %d' % fsee.numParticles")])
+O.dt = 1e-3
+O.run(12, True)
+out['pyrunner'] = {'before': [int(x) for x in O.tags['before'].split()], 'after': [int(x) for x in O.tags['after'].split()]}
 dump('factory', out)
