@@ -39,3 +39,15 @@ def test_erases_what_left_the_box(yade):
         assert dl.nDeleted == ref["nDeleted"]
         assert dl.mDeleted == pytest.approx(ref["mDeleted"], rel=1e-12)
         assert dl.vDeleted == pytest.approx(ref["vDeleted"], rel=1e-12)
+
+
+def test_a_facet_outside_stays(yade):
+    """YADE erases the spheres outside the box (a fixed one too) but keeps a facet there."""
+    O, s = yade.O, yade.sphere
+    O.bodies.append([yade.facet([(0, 3, 0), (1, 3, 0), (0, 4, 0)]), s((0, 3, 0), .1, fixed=True), s((0, -3, 0), .1)])
+    dl = yade.DomainLimiter(lo=(-1, -1, -1), hi=(1, 1, 1), iterPeriod=1)
+    O.engines = [yade.ForceResetter(), yade.InsertionSortCollider([yade.Bo1_Sphere_Aabb(), yade.Bo1_Facet_Aabb()]),
+                 dl, yade.NewtonIntegrator()]
+    O.dt = 1e-4
+    O.run(3, True)
+    assert [b.id for b in O.bodies] == REF["facet"]["bodies"] and dl.nDeleted == REF["facet"]["nDeleted"]

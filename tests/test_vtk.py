@@ -357,6 +357,13 @@ def test_periodic_cell_hexahedron_in_yade_order(yade, tmp_path):
                               [2, 0, 0]], "cell corners")
 
 
+def test_ids_is_yades_other_name_for_id(yade):
+    """YADE 2023.02a writes the ``id`` array for the recorder ``ids`` (hourglass.py names it; measured)."""
+    from granum.yade.vtk import VTKRecorder
+
+    assert VTKRecorder(recorders=["spheres", "ids"]).recorders == ["spheres", "id"]
+
+
 def test_bad_recorder_settings_are_refused(yade, tmp_path):
     from granum.yade.vtk import VTKRecorder
 

@@ -42,6 +42,11 @@ class Engine(Attributed):
     def run_hook(self, omega) -> None:
         """Python part of a compiled engine, run after a step in which its stage asked for it."""
 
+    def hook_due(self) -> bool:
+        """Whether this engine's stage asked for its hook in the last step, for an engine whose stage may share
+        that step's hook slot (``iscal[SI_HOOK]``) with another one's: its hook runs too."""
+        return False
+
     def due(self, scene) -> bool:
         """Whether a Python engine must run in the current step."""
         return True

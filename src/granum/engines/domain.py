@@ -3,7 +3,8 @@
 Rules of YADE 2023.02a used as a black box (``tests/reference/yade/domain_limiter.json``): when due (its
 periods are :class:`~granum.engines.base.PeriodicEngine`'s), every body with ``mask & groupMask != 0`` whose
 position is outside ``[lo, hi]`` (a position on a face is inside) is erased, fixed ones too. A clump is
-judged by its own position and erased with its members; members are not judged on their own.
+judged by its own position and erased with its members; members are not judged on their own. Only spheres and
+clumps are judged: YADE keeps a facet outside the box (and crashes on a box outside it).
 ``nDeleted`` counts the bodies erased (a clump once), ``mDeleted`` adds their masses [kg] and ``vDeleted``
 the volumes of the spheres among them [m^3] (a clump adds none). It runs from Python between compiled
 chunks, as erasing bodies is an edit of the scene.
@@ -39,7 +40,9 @@ class DomainLimiter(PeriodicEngine):
         b = scene.bodies
         n = scene.body_count
         lo, hi = np.asarray(self.lo, dtype=np.float64), np.asarray(self.hi, dtype=np.float64)
-        judged = b.alive[:n] & ((b.clump_id[:n] < 0) | (b.clump_id[:n] == np.arange(n)))
+        kind = b.shape_kind[:n]
+        judged = (b.alive[:n] & ((b.clump_id[:n] < 0) | (b.clump_id[:n] == np.arange(n)))
+                  & ((kind == ShapeKind.SPHERE) | (kind == ShapeKind.CLUMP)))
         if self.mask != -1:
             judged &= (b.mask[:n] & self.mask) != 0
         outside = ((b.pos[:n] < lo) | (b.pos[:n] > hi)).any(axis=1)

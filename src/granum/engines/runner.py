@@ -264,6 +264,9 @@ class Runner:
             self.sync_counters(plan, times)
             if scene.contacts.ctr[C_STATUS]:
                 self.raise_status()
+            for e in plan.compiled:   # the Python engines after this segment see what these hooks add
+                if e.hook_due():
+                    e.run_hook(self.omega)
         elif not item.dead and item.due(scene):
             t0 = time.perf_counter_ns()
             with interrupts.user_code():
@@ -300,11 +303,15 @@ class Runner:
             self.substep()
 
     def run_hooks(self, plan: Plan) -> None:
-        """Run the Python hook a compiled engine asked for during the last step."""
+        """Run the Python hook a compiled engine asked for during the last step, then those of the engines
+        whose stage asked too (:meth:`~granum.engines.base.Engine.hook_due`: one slot names one engine)."""
         k = int(self.scene.iscal[SI_HOOK])
         if k:
             self.scene.iscal[SI_HOOK] = 0
             plan.compiled[k - 1].run_hook(self.omega)
+        for e in plan.compiled:
+            if e.hook_due():
+                e.run_hook(self.omega)
 
     def raise_status(self):
         """Raise the SimulationError of the failure status a kernel left in the contact counters (and clear it)."""

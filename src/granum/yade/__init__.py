@@ -28,6 +28,7 @@ from granum.engines.base import Engine, GlobalEngine, PartialEngine, PeriodicEng
 from granum.engines.controllers import PeriIsoCompressor, PeriTriaxController
 from granum.engines.cpm import CpmStateUpdater
 from granum.engines.domain import DomainLimiter
+from granum.engines.factory import BoxFactory, CircularFactory, SpheresFactory
 from granum.engines.fields import (
     AxialGravityEngine,
     CentralConstantAccelerationEngine,
@@ -150,7 +151,8 @@ _namespace.update(
     TriaxialTest=TriaxialTest,
     ForceEngine=ForceEngine, TranslationEngine=TranslationEngine, RotationEngine=RotationEngine,
     KinematicEngine=KinematicEngine, HelixEngine=HelixEngine, CombinedKinematicEngine=CombinedKinematicEngine,
-    DomainLimiter=DomainLimiter, MatchMaker=MatchMaker,
+    DomainLimiter=DomainLimiter, MatchMaker=MatchMaker, SpheresFactory=SpheresFactory,
+    CircularFactory=CircularFactory, BoxFactory=BoxFactory,
     ParallelEngine=ParallelEngine, HarmonicMotionEngine=HarmonicMotionEngine,
     HarmonicRotationEngine=HarmonicRotationEngine, InterpolatingHelixEngine=InterpolatingHelixEngine,
     BicyclePedalEngine=BicyclePedalEngine, ServoPIDController=ServoPIDController, TorqueEngine=TorqueEngine,

@@ -63,12 +63,14 @@ GENERIC_RECORDERS = ("id", "mass", "clumpId", "colors", "mask", "materialId", "c
 # YADE's recorders for models that granum does not implement: naming one is an error, not a no-op.
 MODEL_RECORDERS = ("cpm", "wpm", "jcfpm", "cracks", "moments", "thermal", "liquid", "cohfrict", "SPH", "deform",
                    "lubrication", "partialsat", "hertz", "lsBodies", "liquidcontrol")
+#: other names YADE 2023.02a takes for a recorder (measured: ``ids`` writes the ``id`` array)
+RECORDER_ALIASES = {"ids": "id"}
 
 
 def _recorders(owner, value) -> list:
     if isinstance(value, str):
         raise TypeError(f"{type(owner).__name__}.recorders must be a list of strings, e.g. ['spheres', 'intr']")
-    names = [str(v) for v in value]
+    names = [RECORDER_ALIASES.get(str(v), str(v)) for v in value]
     for name in names:
         if name in MODEL_RECORDERS:
             raise ValueError(f"VTKRecorder: recorder {name!r} records a model granum does not implement")
