@@ -62,6 +62,9 @@ class Example:
     #: > 0: the script's bounded runs stop at this O.iter (the later ones do nothing), for scripts that run
     #: longer than a reference run can take
     max_iter: int = 0
+    #: files the script keeps between runs outside its folder (a ``memoizeDb`` in /tmp), removed before each run
+    #: so that both programs start from the same state
+    fresh: tuple[str, ...] = ()
     why: str = ""
 
     @property
@@ -153,6 +156,9 @@ def run(example: Example, program: str, examples_dir: str = EXAMPLES, granum: li
     src = os.path.join(examples_dir, example.path)
     if not os.path.exists(src):
         raise FileNotFoundError(f"{src}: no such example script (is Debian's yade package installed?)")
+    for kept in example.fresh:
+        if os.path.exists(kept):
+            os.remove(kept)
     with tempfile.TemporaryDirectory(prefix="granum-example-") as tmp:
         folder = os.path.join(tmp, "run")
         shutil.copytree(os.path.dirname(src), folder)
