@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import granum_reference_run, reference
+from conftest import granum_reference_run, reference, resumed_run_matches
 
 CHECK = "/usr/share/doc/yade/scripts/checks-and-tests/checks/checkHertzExtended.py"
 
@@ -257,19 +257,7 @@ def test_save_load_continue_equals_the_uninterrupted_run(yade, tmp_path):
                           yade.NewtonIntegrator(gravity=(0, 0, -9.81), damping=0.1)]
         yade.O.dt = 2e-5
 
-    def state():
-        return np.array([list(b.state.pos) + list(b.state.vel) + list(b.state.angVel) for b in yade.O.bodies])
-
-    scene()
-    yade.O.run(3000, True)
-    whole = state()
-    scene()
-    yade.O.run(1500, True)
-    path = str(tmp_path / "cdm.yade")
-    yade.O.save(path)
-    yade.O.load(path)
-    yade.O.run(1500, True)
-    np.testing.assert_array_equal(state(), whole)
+    resumed_run_matches(yade, scene, 3000, tmp_path / "cdm.yade")
     law = yade.O.engines[2].lawDispatcher.functors[0]
     assert yade.O.interactions.countReal() > 10 and law.ratioYieldingContacts() > 0
 

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import granum_reference_run, reference
+from conftest import granum_reference_run, reference, resumed_run_matches
 
 N = np.array([0.6, 0.3, 0.74]) / np.linalg.norm([0.6, 0.3, 0.74])
 
@@ -287,19 +287,7 @@ def test_save_load_continue_equals_the_uninterrupted_run(yade, tmp_path):
         yade.O.dt = 1e-4
         yade.O.trackEnergy = True
 
-    def state():
-        return np.array([list(b.state.pos) + list(b.state.vel) + list(b.state.angVel) for b in yade.O.bodies])
-
-    scene()
-    yade.O.run(3000, True)
-    whole = state()
-    scene()
-    yade.O.run(1500, True)
-    path = str(tmp_path / "c.yade")
-    yade.O.save(path)
-    yade.O.load(path)
-    yade.O.run(1500, True)
-    np.testing.assert_array_equal(state(), whole)
+    resumed_run_matches(yade, scene, 3000, tmp_path / "c.yade")
     moments = [np.linalg.norm(list(i.phys.moment_bending)) for i in yade.O.interactions
                if type(i.phys).__name__ == "CohFrictPhys"]
     assert len(moments) > 10 and max(moments) > 0
