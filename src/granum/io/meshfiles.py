@@ -129,7 +129,8 @@ def _stl_ascii_problem(path) -> str | None:
 
 
 def read_stl(path) -> np.ndarray:
-    """Triangles (F, 3, 3) [file units] of an STL file, ASCII or binary, in file order.
+    """Triangles (F, 3, 3) [file units] of an STL file, ASCII or binary, in file order, rounded to float32 as
+    YADE reads them.
 
     Binary files must be 84 + 50 F bytes long for the F triangles their header announces; a shorter one
     is truncated and names the first incomplete triangle.
@@ -171,7 +172,10 @@ def read_stl(path) -> np.ndarray:
         where, _, what = problem.partition(": ") if problem.startswith("line ") else ("", "", problem)
         raise MeshFileError(path, where, what) from cause
     check_triangles(tri, path)
-    return tri
+    # STL coordinates are single precision: binary files store float32, and YADE 2023.02a's ymport.stl reads
+    # ASCII ones as float too (vertex -0.15 comes out as -0.15000000596046448, measured); granum's facets are
+    # then YADE's to the bit
+    return tri.astype(np.float32).astype(np.float64)
 
 
 def write_stl(path, triangles, binary: bool = False, name: str = "granum") -> None:

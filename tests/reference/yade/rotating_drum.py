@@ -1,4 +1,4 @@
-# rotating_drum: benchmarks/rotating_drum.py at 400 spheres with BENCH_EXTRA=1 (facetCylinder drum turned by
+# rotating_drum: benchmarks/rotating_drum.py at 400 spheres with BENCH_EXTRA=1 (a drum read from an STL file, turned by
 # RotationEngine + HarmonicMotionEngine, LinearDragEngine on the spheres, FrictMat contacts), 1000 steps after the
 # warm-up step: every sphere's pos and angVel, the drum's first facet's pos and ori, the number of contacts.
 # Regenerate: cd tests/reference/yade && yade -n -x rotating_drum.py
