@@ -80,7 +80,7 @@ class TriaxialStressController(GlobalEngine):
         "internalCompaction": Attr(True, "Grow the spheres (walls fixed) instead of moving the walls", to_bool),
         "finalMaxMultiplier": Attr(1.00001, "Growth factor bound once the mean stress has reached the goal [-]",
                                    _multiplier("finalMaxMultiplier")),
-        "max_vel": Attr(1.0, "Largest wall displacement per step, over dt [m/s]", to_float("max_vel", positive=True)),
+        "max_vel": Attr(1.0, "Largest wall speed [m/s] of an axis of mean size (scaled by size/mean size)", to_float("max_vel", positive=True)),
         "stressDamping": Attr(0.25, "Damping of the stress servo (0: none, 1: walls do not move) [-]",
                               _fraction("stressDamping")),
         "strainDamping": Attr(0.99, "Factor by which the strain rate's distance to its goal shrinks per step [-]",
