@@ -265,7 +265,8 @@ def unbalancedForce(useMaxForce=False):
     """Mean (or maximum) resultant force on dynamic bodies over the mean contact force.
 
     The resultant includes gravity from NewtonIntegrator; clumps count with the sum of
-    their members' forces (also before NewtonIntegrator has gathered them), members do not count on their own. Tends to 0 at equilibrium.
+    their members' forces (also before NewtonIntegrator has gathered them), members do not count on their
+    own. Tends to 0 at equilibrium.
     NaN when there is no contact.
     """
     s = _scene()
