@@ -31,6 +31,7 @@ from granum.core.arrays import S_DT, SI_HOOK, SI_ITER, SI_NBODIES
 from granum.core.bodies import DOF_ALL
 from granum.core.contacts import C_CONTACTS, F_FN, F_FS, F_KN, F_NORMAL, FLAG_ALIVE, I_CELL, I_FLAGS, I_ID1, I_ID2
 from granum.kernels.interaction import load3_row
+from granum.kernels.newton import counted_force
 from granum.physics.vec import add, det3, load3, matvec, sub
 
 # slots of the controller's output array
@@ -98,14 +99,16 @@ def contact_stress(S, C, out, unbalanced=True):
 
 @jit
 def unbalanced_force(S, fsum, nc):
-    """YADE's unbalanced force: the mean resultant force on free bodies over the mean contact force
-    (``fsum``: the sum of |f| over the ``nc`` live contacts) [-]; NaN without contacts or free bodies."""
+    """YADE's unbalanced force: the mean resultant force on free bodies (a clump with its members' forces) over
+    the mean contact force (``fsum``: the sum of |f| over the ``nc`` live contacts) [-]; NaN without contacts
+    or free bodies."""
     res = 0.0
     nfree = 0
-    alive, blocked, clump_id, force = S.alive, S.blocked, S.clump_id, S.force
+    alive, blocked, clump_id = S.alive, S.blocked, S.clump_id
     for i in range(S.iscal[SI_NBODIES]):
         if alive[i] and blocked[i] != DOF_ALL and (clump_id[i] < 0 or clump_id[i] == i):
-            res += math.sqrt(force[i, 0] ** 2 + force[i, 1] ** 2 + force[i, 2] ** 2)
+            f = counted_force(i, S)
+            res += math.sqrt(f[0] ** 2 + f[1] ** 2 + f[2] ** 2)
             nfree += 1
     return (res / nfree) / (fsum / nc) if nc > 0 and nfree > 0 and fsum > 0 else math.nan
 

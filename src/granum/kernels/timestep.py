@@ -24,7 +24,13 @@ uses (measured: its steps are 1.41044·s·√(m/K) to the last digit, tests/refe
 With ``viscEl`` the dashpots of ViscElPhys contacts (cn, cs) add the overdamped limits 2m/C and
 2I/C^R, C_w = Σ (c_n - c_s) n_w² + c_s and C^R_w = Σ c_s (1 - n_w²) r², to the minimum (YADE's
 results, same script). The step is the smallest over the bodies that are not fixed (all six DOFs
-blocked), clump members excepted (YADE ignores clumps), and bodies without contacts give none.
+blocked), clump members excepted, and bodies without contacts give none. A clump sums the contacts of all
+its members, each with the member's own radius r, and uses the clump's mass and principal inertia I_w
+(indexed by the global axes w, as for any body): YADE 2023.02a, measured on clumps touched on one or two
+members (tests/reference/yade/timestepper_clump.py).
+A contact whose normal force is exactly zero (touching without overlap, e.g. aabbWalls' walls at the first
+step) adds no stiffness, as in YADE 2023.02a (measured: a sphere on a box at zero penetration and on an
+overlapping sphere, same script).
 
 An update (at the steps that start with ``O.iter`` a multiple of ``timeStepUpdateInterval``, or 1, and
 at every step until one has found a contact: YADE's schedule, measured) sets O.dt to that minimum, at
@@ -42,7 +48,7 @@ import numpy as np
 from granum._jit import BLOCK, PARALLEL_THRESHOLD, jit, kernel, prange
 from granum.core.arrays import S_DT, SI_ITER, SI_NBODIES
 from granum.core.bodies import DOF_ALL
-from granum.core.contacts import C_CSR_DIRTY, F_KN, F_KS, F_NORMAL, F_R1, F_R2, I_ID2, I_PHYS
+from granum.core.contacts import C_CSR_DIRTY, F_FN, F_KN, F_KS, F_NORMAL, F_R1, F_R2, I_ID2, I_PHYS
 from granum.core.records import raw
 from granum.core.shapes import ShapeKind
 from granum.kernels.interaction import build_csr
@@ -57,6 +63,7 @@ MAX_GROWTH = 1.05
 #: ``previousDt`` before any computed step (YADE's: the largest double)
 NEVER = np.finfo(np.float64).max
 _SPHERE = int(ShapeKind.SPHERE)
+_CLUMP = int(ShapeKind.CLUMP)
 
 
 class TimeStepperParams(NamedTuple):
@@ -76,42 +83,50 @@ class TimeStepperParams(NamedTuple):
 @jit
 def body_time_step(i, S, C, safety, visc_el, viscel_phys, rot_columns):
     """Critical step of body ``i`` times ``safety`` [s] (see the module docstring); inf without contacts.
-    ``S``, ``C``: raw views. The sums are scalars: no array per body."""
+    ``S``, ``C``: raw views; a clump ``i`` sums its members' contacts. The sums are scalars: no array per body."""
     kx = ky = kz = 0.0     # translational stiffness K_w [N/m]
     rx = ry = rz = 0.0     # rotational stiffness K^R_w [N m]
     cx = cy = cz = 0.0     # translational damping C_w [N s/m]
     qx = qy = qz = 0.0     # rotational damping C^R_w [N m s]
     con_i, con_f, csr_con = C.con_i, C.con_f, C.csr_con
     damped = visc_el and con_f.shape[1] > F_CS
-    for j in range(C.csr_start[i], C.csr_start[i + 1]):
-        c = csr_con[j]
-        kn = con_f[c, F_KN]
-        ks = con_f[c, F_KS]
-        r2 = (con_f[c, F_R2] if con_i[c, I_ID2] == i else con_f[c, F_R1]) ** 2
-        nx = con_f[c, F_NORMAL] ** 2
-        ny = con_f[c, F_NORMAL + 1] ** 2
-        nz = con_f[c, F_NORMAL + 2] ** 2
-        kx += (kn - ks) * nx + ks
-        ky += (kn - ks) * ny + ks
-        kz += (kn - ks) * nz + ks
-        bend = ks * r2         # resists rotations about the axes normal to n [N m]
-        twist = 0.0            # resists rotations about n [N m]
-        kr_col = rot_columns[con_i[c, I_PHYS], 0]
-        if kr_col >= 0:
-            bend += con_f[c, kr_col]
-            twist = con_f[c, rot_columns[con_i[c, I_PHYS], 1]]
-        rx += bend * (1.0 - nx) + twist * nx
-        ry += bend * (1.0 - ny) + twist * ny
-        rz += bend * (1.0 - nz) + twist * nz
-        if damped and viscel_phys[con_i[c, I_PHYS]] != 0:
-            cn = con_f[c, F_CN]
-            cs = con_f[c, F_CS]
-            cx += (cn - cs) * nx + cs
-            cy += (cn - cs) * ny + cs
-            cz += (cn - cs) * nz + cs
-            qx += cs * (1.0 - nx) * r2
-            qy += cs * (1.0 - ny) * r2
-            qz += cs * (1.0 - nz) * r2
+    first, count = -1, 1   # t = -1: the body itself
+    if S.shape_kind[i] == _CLUMP:
+        first = S.clump_member_first[S.shape_row[i]]
+        count = S.clump_member_count[S.shape_row[i]]
+    for t in range(first, first + count):
+        member = i if t < 0 else S.clump_members[t]
+        for j in range(C.csr_start[member], C.csr_start[member + 1]):
+            c = csr_con[j]
+            if con_f[c, F_FN] == 0.0 and con_f[c, F_FN + 1] == 0.0 and con_f[c, F_FN + 2] == 0.0:
+                continue       # YADE counts no stiffness for a contact that carries no normal force
+            kn = con_f[c, F_KN]
+            ks = con_f[c, F_KS]
+            r2 = (con_f[c, F_R2] if con_i[c, I_ID2] == member else con_f[c, F_R1]) ** 2
+            nx = con_f[c, F_NORMAL] ** 2
+            ny = con_f[c, F_NORMAL + 1] ** 2
+            nz = con_f[c, F_NORMAL + 2] ** 2
+            kx += (kn - ks) * nx + ks
+            ky += (kn - ks) * ny + ks
+            kz += (kn - ks) * nz + ks
+            bend = ks * r2         # resists rotations about the axes normal to n [N m]
+            twist = 0.0            # resists rotations about n [N m]
+            kr_col = rot_columns[con_i[c, I_PHYS], 0]
+            if kr_col >= 0:
+                bend += con_f[c, kr_col]
+                twist = con_f[c, rot_columns[con_i[c, I_PHYS], 1]]
+            rx += bend * (1.0 - nx) + twist * nx
+            ry += bend * (1.0 - ny) + twist * ny
+            rz += bend * (1.0 - nz) + twist * nz
+            if damped and viscel_phys[con_i[c, I_PHYS]] != 0:
+                cn = con_f[c, F_CN]
+                cs = con_f[c, F_CS]
+                cx += (cn - cs) * nx + cs
+                cy += (cn - cs) * ny + cs
+                cz += (cn - cs) * nz + cs
+                qx += cs * (1.0 - nx) * r2
+                qy += cs * (1.0 - ny) * r2
+                qz += cs * (1.0 - nz) * r2
     m = S.mass[i]
     ix = S.inertia[i, 0]
     iy = S.inertia[i, 1]

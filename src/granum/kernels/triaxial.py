@@ -18,9 +18,11 @@ The walls are boxes (``utils.aabbWalls``) in the order left, right (x), bottom, 
   (YADE 2023.02a's rule, measured);
 * otherwise each active wall moves along n_w by T_w per step (set as its velocity T_w n_w / dt,
   which NewtonIntegrator integrates). Stress axis (bit a of ``stressMask``):
-  T_w = (1 - stressDamping)·clamp(ΔF / k_w, ±max_vel·dt) + 0.8·T_w(previous step), with
-  ΔF = F_w·n_w - goal_a·A_w (±max_vel·dt by the sign of ΔF while k_w = 0): a damped servo that
-  accumulates (the 0.8 is YADE's, measured on its walls' motion). Strain axis: the rate
+  T_w = (1 - stressDamping)·clamp(ΔF / k_w, ±c_a) + 0.8·T_w(previous step), with
+  ΔF = F_w·n_w - goal_a·A_w (±c_a by the sign of ΔF while k_w = 0): a damped servo that
+  accumulates (the 0.8 is YADE's, measured on its walls' motion). The cap c_a = max_vel·dt·size_a/s̄,
+  s̄ the mean of width, height and depth, lets a longer axis move proportionally faster (YADE 2023.02a,
+  measured on a 4 x 1 x 1.5 sample: tests/reference/yade/triaxial_maxvel.py). Strain axis: the rate
   r_a ← strainDamping·r_a + (1 - strainDamping)·goal_a approaches the goal rate [1/s] and each wall
   moves by -½ r_a·size_a·dt inwards.
 """
@@ -216,6 +218,7 @@ def triaxial_control(S, C, P, internal):
         for a in range(3):
             if not P.stress_mask >> a & 1:
                 out[T_GOAL_RATE + a] = P.strain_damping * out[T_GOAL_RATE + a] + (1.0 - P.strain_damping) * goal[a]
+        mean_size = (out[T_SIZE] + out[T_SIZE + 1] + out[T_SIZE + 2]) / 3.0
         for w in range(6):
             a = w // 2
             if not P.activated[w]:
@@ -225,10 +228,11 @@ def triaxial_control(S, C, P, internal):
             f = inward(w) * S.force[body, a]
             if P.stress_mask >> a & 1:
                 err = f - goal[a] * face_area(out, a)
+                cap = P.max_vel * dt * out[T_SIZE + a] / mean_size
                 if out[T_STIFF + w] > 0.0:
-                    t = min(max(err / out[T_STIFF + w], -P.max_vel * dt), P.max_vel * dt)
+                    t = min(max(err / out[T_STIFF + w], -cap), cap)
                 elif err != 0.0:
-                    t = math.copysign(P.max_vel * dt, err)
+                    t = math.copysign(cap, err)
                 else:
                     t = 0.0
                 t = (1.0 - P.stress_damping) * t + MEMORY * out[T_TRANSLATION + w]

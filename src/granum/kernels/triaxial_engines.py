@@ -43,6 +43,7 @@ from granum._jit import jit
 from granum.core.arrays import S_DT, SI_HOOK, SI_ITER, SI_NBODIES
 from granum.core.bodies import DOF_ALL
 from granum.core.contacts import C_CONTACTS, F_FN, F_FS, FLAG_ALIVE, I_FLAGS
+from granum.kernels.newton import counted_force
 from granum.kernels.triaxial import T_MEAN, T_SIZE, T_SIZE0, T_STRAIN, T_STRESS, TriaxialParams, triaxial_control
 
 # states (YADE's numbers)
@@ -106,15 +107,16 @@ class CompressionParams(NamedTuple):
 
 @jit
 def unbalanced_force(S, C, gravity):
-    """Mean |F + m g| over the dynamic bodies (clumps for their members) over the mean |contact force| [-];
-    NaN without contacts."""
+    """Mean |F + m g| over the dynamic bodies (a clump with its members' forces: :func:`counted_force`)
+    over the mean |contact force| [-]; NaN without contacts."""
     res = 0.0
     n = 0
     for i in range(S.iscal[SI_NBODIES]):
         if S.alive[i] and S.blocked[i] != DOF_ALL and (S.clump_id[i] < 0 or S.clump_id[i] == i):
-            fx = S.force[i, 0] + S.mass[i] * gravity[0]
-            fy = S.force[i, 1] + S.mass[i] * gravity[1]
-            fz = S.force[i, 2] + S.mass[i] * gravity[2]
+            f = counted_force(i, S)
+            fx = f[0] + S.mass[i] * gravity[0]
+            fy = f[1] + S.mass[i] * gravity[1]
+            fz = f[2] + S.mass[i] * gravity[2]
             res += math.sqrt(fx * fx + fy * fy + fz * fz)
             n += 1
     fsum = 0.0

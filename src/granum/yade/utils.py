@@ -265,7 +265,8 @@ def unbalancedForce(useMaxForce=False):
     """Mean (or maximum) resultant force on dynamic bodies over the mean contact force.
 
     The resultant includes gravity from NewtonIntegrator; clumps count with the sum of
-    their members' forces, members do not count on their own. Tends to 0 at equilibrium.
+    their members' forces (also before NewtonIntegrator has gathered them), members do not count on their
+    own. Tends to 0 at equilibrium.
     NaN when there is no contact.
     """
     s = _scene()
@@ -275,7 +276,12 @@ def unbalancedForce(useMaxForce=False):
     C, rows = _live_contacts()
     if rows.size == 0 or dyn.size == 0:
         return math.nan
-    res = np.linalg.norm(b.force[dyn] + b.mass[dyn, None] * _gravity()[None, :], axis=1)
+    force = b.force[:n].copy()
+    ids = np.arange(n)
+    members = np.nonzero(b.alive[:n] & (b.clump_id[:n] >= 0) & (b.clump_id[:n] != ids))[0]
+    force[b.clump_id[members]] = 0.0  # a clump counts its members' forces, gathered this step or not (YADE's)
+    np.add.at(force, b.clump_id[members], b.force[members])
+    res = np.linalg.norm(force[dyn] + b.mass[dyn, None] * _gravity()[None, :], axis=1)
     num = res.max() if useMaxForce else res.mean()
     f = C.con_f[rows, F_FN:F_FN + 3] + C.con_f[rows, F_FS:F_FS + 3]
     return float(num / np.linalg.norm(f, axis=1).mean())
