@@ -251,7 +251,7 @@ def test_rotating_drum_as_yade():
     np.testing.assert_allclose(got[:, 0], want[:, 0], rtol=0, atol=1e-8)  # positions [m], r = 0.01
     # spins: the drum read from the STL file (two triangles per side panel) gave 2 of 455 spheres up to 2.6e-4 of
     # the largest spin apart (measured), the facetCylinder drum 1e-5
-    np.testing.assert_allclose(got[:, 1], want[:, 1], rtol=0, atol=1e-3 * np.abs(want[:, 1]).max())
+    np.testing.assert_allclose(got[:, 1], want[:, 1], rtol=0, atol=5e-4 * np.abs(want[:, 1]).max())
 
 
 @pytest.mark.parametrize("mask", [0, -1, 2, 1, -2])
