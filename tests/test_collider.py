@@ -447,6 +447,29 @@ def test_no_contact_is_missed_by_a_turning_facet(yade):
     assert any(touched) and not touched[0]
 
 
+def test_no_contact_is_missed_in_a_turning_box(yade):
+    """The falling cloud in its facet box turning about the box's centre, over several collider runs: after
+    the first run the budgets of sphere-facet pairs hold the rotation allowance that the last interval saw
+    (the sphere pairs' bound leaves the facets' rotation out), and still every step the geometric contacts
+    are exactly the real ones."""
+    from granum.core.arrays import S_TURN_ALLOWANCE
+
+    facets, _ = falling_cloud(yade, seed=5, num=300)
+    O = yade.O
+    turn = yade.RotationEngine(ids=facets, rotationAxis=(1, 1, 0), angularVelocity=3.0, rotateAroundZero=True,
+                               zeroPoint=(0.5, 0.5, 0.5))
+    O.engines = O.engines[:3] + [turn] + O.engines[3:]  # O.engines is a copy, as in YADE: insert into it does nothing
+    check = ContactChecker(yade, facets)
+    allowances = set()
+    for _ in range(300):
+        check.facets = {f: facet_vertices(O.bodies[f]) for f in facets}
+        check.step()
+        allowances.add(float(O._scene.scal[S_TURN_ALLOWANCE]))
+    runs = int(O._scene.contacts.ctr[C_COLLIDER_RUNS])
+    assert check.checked > 1000 and runs >= 3
+    assert len(allowances) >= 3 and min(allowances) == 0.0  # a new allowance per run, none before the first
+
+
 def test_no_contact_is_missed_by_a_sphere_swinging_back(yade):
     """A sphere swings to and fro above another that creeps towards its path, with a Verlet distance so
     large that the collider never runs again: a pair's budget is measured from where it was last
@@ -459,13 +482,16 @@ def test_no_contact_is_missed_by_a_sphere_swinging_back(yade):
     O.bodies[below].state.vel = (0, 0.1, 0)  # 1.5 r towards the swinging sphere's path in 1500 steps
     O.engines = frict_engines(yade)
     O.engines[1].verletDist = 3 * amplitude
-    O.engines.insert(2, yade.HarmonicMotionEngine(ids=[swinging], A=(amplitude, 0, 0), f=(20, 0, 0)))
+    swing = yade.HarmonicMotionEngine(ids=[swinging], A=(amplitude, 0, 0), f=(20, 0, 0))
+    O.engines = O.engines[:2] + [swing] + O.engines[2:]
     O.dt = 1e-4
     check = ContactChecker(yade, [])
     while O.iter < 1500:
         check.step()
     assert int(O._scene.contacts.ctr[C_COLLIDER_RUNS]) == 1
-    assert check.checked >= 100 and check.touching == {below, swinging}
+    # overlap is possible in the last 500 steps only, for up to 40 steps per pass of the swinging sphere (6 m/s
+    # across a chord of at most 2.6 r), twice: about 50 checked contacts
+    assert check.checked >= 20 and check.touching == {below, swinging}
 
 
 # ---- 4. erasing and appending bodies during a run ------------------------------------------

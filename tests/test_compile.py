@@ -53,11 +53,12 @@ def whole(a):   # calls its parts by symbol: their code stays in their own entry
 
 def _run(folder, script: str, **env) -> str:
     """Run ``script`` in ``folder`` (created) with the module above importable as ``kern`` and a cache
-    directory of its own; its standard output."""
+    directory of its own, on the fast compile path whatever the suite's (these tests are the fast path's: the
+    suite also runs with GRANUM_COMPILE=fallback); its standard output."""
     folder.mkdir(exist_ok=True)
     if not (folder / "kern.py").exists():   # rewriting it would change its time stamp: Numba's cache key
         (folder / "kern.py").write_text(KERNELS)
-    environ = {**os.environ, "GRANUM_CACHE_DIR": str(folder / "cache"), **env}
+    environ = {**os.environ, "GRANUM_COMPILE": "auto", "GRANUM_CACHE_DIR": str(folder / "cache"), **env}
     out = subprocess.run([sys.executable, "-c", textwrap.dedent(script)], cwd=folder, env=environ, check=True,
                          capture_output=True, text=True, timeout=600)
     return out.stdout

@@ -125,25 +125,60 @@ def test_rotation_quaternion_is_sine_and_cosine():
     assert quat_from_rotvec((0.0, 0.0, 0.0)) == (1.0, 0.0, 0.0, 0.0)
 
 
+def test_quat_renormalized_is_the_normalized_quaternion():
+    """quat_renormalized(q) = q/|q| (computed in long double): to rounding for products of unit quaternions
+    (NewtonIntegrator's case), within 3 e^2/8 for |q|^2 = 1 + e off unit by up to 1e-6 (the series' limit),
+    and exactly quat_normalized beyond it."""
+    from granum.physics.vec import quat_mul, quat_normalized, quat_renormalized
+
+    rng = np.random.default_rng(8)
+
+    def exact(q):
+        ql = np.array(q, np.longdouble)
+        return ql / np.sqrt(np.sum(ql * ql))
+
+    for _ in range(2000):
+        a, b = (tuple(x / np.linalg.norm(x)) for x in rng.normal(size=(2, 4)))
+        q = quat_mul(a, b)
+        got = np.array(quat_renormalized(q), np.longdouble)
+        assert np.max(np.abs(got - exact(q))) <= 4.5e-16
+    for e in (-9e-7, -1e-9, 3e-8, 9e-7):
+        q = tuple(x / np.linalg.norm(x) * math.sqrt(1 + e) for x in rng.normal(size=4))
+        got = np.array(quat_renormalized(q), np.longdouble)
+        assert np.max(np.abs(got - exact(q))) <= 3 / 8 * e * e + 4.5e-16
+    q = (1.0, 0.002, 0.0, 0.0)  # |q|^2 - 1 = 4e-6: the library path
+    assert quat_renormalized(q) == quat_normalized(q)
+
+
 def test_motion_bound_exceeds_every_pairs_motion(yade):
-    """The detection's common bound is at least |d_a - d_b| + w_a + w_b for every two bodies (brute force
-    over random displacements in blocks), and infinite when a displacement is not finite."""
+    """The detection's common bound (random displacements in blocks, brute force over every two bodies): at
+    least |d_a - d_b| for every pair, and |d_a - d_b| + w_a + w_b - T for a pair with a turning body whose
+    budget holds the allowance T; infinite when a displacement is not finite."""
     from granum._jit import call
-    from granum.kernels.interaction import motion_bound
+    from granum.core.arrays import S_TURN_ALLOWANCE, S_TURN_SEEN
+    from granum.kernels.interaction import motion_bound, quick_bound
 
     yade.O.bodies.append(yade.sphere((0, 0, 0), 1))
-    S = yade.O._scene.arrays()
+    scene = yade.O._scene
+    S = scene.arrays()
     rng = np.random.default_rng(4)
     for _ in range(20):
         d = rng.normal(0, 1e-3, (40, 3)) + rng.normal(0, 1, 3)  # a common drift and a spread
         w = rng.uniform(0, 1e-3, 40) * (rng.uniform(size=40) < 0.3)
         blocks = np.array_split(np.arange(40), 5)
         spread = np.array([np.r_[d[b].min(0), d[b].max(0), w[b].max()] for b in blocks])
-        bound = call(motion_bound, S, spread)
-        worst = max(np.linalg.norm(d[a] - d[b]) + w[a] + w[b] for a in range(40) for b in range(40))
-        assert worst <= bound <= 1.01 * (np.linalg.norm(d.max(0) - d.min(0)) + 2 * w.max())
+        shift = max(np.linalg.norm(d[a] - d[b]) for a in range(40) for b in range(40))
+        turning = max(np.linalg.norm(d[a] - d[b]) + w[a] + w[b] for a in range(40) for b in range(40))
+        extent = np.linalg.norm(d.max(0) - d.min(0))
+        for allowance in (0.0, 0.5 * w.max(), 3 * w.max()):
+            scene.scal[S_TURN_ALLOWANCE] = allowance
+            scene.scal[S_TURN_SEEN] = 0.0
+            bound = call(quick_bound, S, *call(motion_bound, S, spread))
+            assert max(shift, turning - allowance) <= bound
+            assert bound <= 1.01 * (extent + max(0.0, 2 * w.max() - allowance))
+            assert scene.scal[S_TURN_SEEN] == 2 * w.max()  # the collider's next allowance
     nan_x = np.array([[np.inf, 0, 0, -np.inf, 0, 0, np.inf]])  # a block whose only body has a NaN x
-    assert call(motion_bound, S, nan_x) == np.inf
+    assert call(quick_bound, S, *call(motion_bound, S, nan_x)) == np.inf
 
 
 @pytest.mark.parametrize("workers", [1, 2, 3, 5])

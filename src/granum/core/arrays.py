@@ -21,7 +21,9 @@ S_DT = 0           # time step [s]
 S_TIME = 1         # simulated time [s]
 S_VERLET = 2       # Verlet distance of the current bounds [m]
 S_PAIR_REF_UNIT = 3  # length unit of the pairs' reference motions ``pair_ref``, set by the collider [m]
-NSCAL = 4
+S_TURN_ALLOWANCE = 4  # rotation allowance in the budgets of pairs with a turning body, fixed by the collider [m]
+S_TURN_SEEN = 5     # greatest rotation term 2 max w seen since the collider ran [m]
+NSCAL = 6
 
 # ---- integer scalars: iscal ------------------------------------------------------
 SI_ITER = 0         # step counter

@@ -30,7 +30,7 @@ import numpy as np
 
 from granum._codegen import import_line, load_module
 from granum._jit import BLOCK, PARALLEL_THRESHOLD, jit, kernel, overload, prange
-from granum.core.arrays import S_PAIR_REF_UNIT, S_VERLET, SI_NBODIES, SI_PERIODIC
+from granum.core.arrays import S_PAIR_REF_UNIT, S_TURN_ALLOWANCE, S_TURN_SEEN, S_VERLET, SI_NBODIES, SI_PERIODIC
 from granum.core.contacts import (
     C_COLLIDE,
     C_COLLIDER_RUNS,
@@ -189,32 +189,36 @@ def overlap(S, i, j):
 
 
 @jit
-def cell_range(key, keys_sorted, dense_start):
-    """Range [a, b) of ``keys_sorted`` equal to ``key`` (dense table or binary search)."""
+def cell_run(first, last, keys_sorted, dense_start):
+    """Range [a, b) of ``keys_sorted`` with keys ``first`` to ``last`` (dense table or binary search)."""
     if dense_start.shape[0] > 0:
-        if key < 0 or key >= dense_start.shape[0] - 1:
+        first = max(first, 0)
+        last = min(last, dense_start.shape[0] - 2)
+        if first > last:
             return 0, 0
-        return dense_start[key], dense_start[key + 1]
-    return lower_bound(keys_sorted, key), lower_bound(keys_sorted, key + 1)
+        return dense_start[first], dense_start[last + 1]
+    return lower_bound(keys_sorted, first), lower_bound(keys_sorted, last + 1)
 
 
 class BodyGrid(NamedTuple):
     """The uniform grid of the aperiodic broad phase (:func:`find_pairs`).
 
     Small bodies (bound no wider than the spacing ``h``) are binned by the cell of their bound's lower corner:
-    ``order`` lists them by cell key, ``keys_sorted`` holds their keys and ``dense_start`` the start of each
-    cell in ``order`` (empty when the cells are too many for a table: binary search then). Large bodies whose
-    bound covers few cells are listed in every cell it covers (``large_order``, ``large_keys``,
-    ``large_dense``, the same layout); the others (walls, infinite or huge bounds) are tested against all
-    bodies (``rest``)."""
+    ``order`` lists them by cell key and, within a cell, by the lower z of their bound; ``keys_sorted`` holds
+    their keys, ``box`` their bounds in that order (the scan over a cell's bodies reads contiguous memory) and
+    ``dense_start`` the start of each cell in ``order`` (empty when the cells are too many for a table: binary
+    search then). Large bodies whose bound covers few cells are listed in every cell it covers
+    (``large_order``, ``large_keys``, ``large_dense``, the same layout); the others (walls, infinite or huge
+    bounds) are tested against all bodies (``rest``)."""
 
     small: np.ndarray          #: whether body i is binned, (nb,) bool
     cell: np.ndarray           #: cell of a small body's lower corner, (nb, 3) int64 (0 for the others)
     dims: np.ndarray           #: cells per axis, (3,) int64
     lo: np.ndarray             #: lower corner of cell (0, 0, 0) [m], (3,)
     h: float                   #: cell size [m]
-    order: np.ndarray          #: small bodies by cell key, (small,) int32
+    order: np.ndarray          #: small bodies by cell key, then lower z, (small,) int32
     keys_sorted: np.ndarray    #: their keys, (small,) int64
+    box: np.ndarray            #: their bounds, min then max [m], (small, 6)
     dense_start: np.ndarray    #: start of each cell in ``order``, (cells + 1,) int64 or (0,)
     large: np.ndarray          #: every body with a bound that is not small, in id order, (large,) int32
     large_order: np.ndarray    #: the binned large bodies, once per cell covered, by cell key then id, int32
@@ -245,53 +249,64 @@ def cell_span(S, i, lo, h, dims):
 
 
 @jit
-def add_partner(i, j, n, base, out):
-    """Record partner ``j`` of body ``i`` as the ``n``-th (written when ``out`` is not empty); n + 1."""
-    if out.shape[0] > 0:
-        out[base + n, 0] = i
-        out[base + n, 1] = j
+def add_partner(j, n, base, cap, out):
+    """Record partner ``j`` as the ``n``-th at ``out[base + n]`` when ``n < cap``; returns n + 1."""
+    if n < cap:
+        out[base + n] = j
     return n + 1
 
 
 @jit
-def small_in_cells(i, S, grid, avoid_self, first, last, n, base, out):
+def small_in_cells(i, S, grid, avoid_self, first, last, n, base, cap, out):
     """Partners j > i of body ``i`` among the small bodies binned in the cells ``first`` to ``last`` (cell
-    indices per axis, clipped to the grid)."""
+    indices per axis, clipped to the grid). The cells of one (x, y) column are consecutive keys: one run
+    of ``order`` each."""
     dims = grid.dims
+    lo0, lo1, lo2 = S.bound_min[i, 0], S.bound_min[i, 1], S.bound_min[i, 2]
+    hi0, hi1, hi2 = S.bound_max[i, 0], S.bound_max[i, 1], S.bound_max[i, 2]
+    z0 = max(first[2], 0)
+    z1 = min(last[2], dims[2] - 1)
+    if z0 > z1:
+        return n
+    box = grid.box
     for cx in range(max(first[0], 0), min(last[0], dims[0] - 1) + 1):
         for cy in range(max(first[1], 0), min(last[1], dims[1] - 1) + 1):
-            for cz in range(max(first[2], 0), min(last[2], dims[2] - 1) + 1):
-                a, b = cell_range((cx * dims[1] + cy) * dims[2] + cz, grid.keys_sorted, grid.dense_start)
-                for t in range(a, b):
-                    j = grid.order[t]
-                    if j > i and overlap(S, i, j) and may_collide(S, i, j, avoid_self):
-                        n = add_partner(i, j, n, base, out)
+            column = (cx * dims[1] + cy) * dims[2]
+            a, b = cell_run(column + z0, column + z1, grid.keys_sorted, grid.dense_start)
+            for t in range(a, b):
+                if box[t, 2] > hi2:
+                    break  # the run is sorted by the bounds' lower z: no later body reaches down to i
+                j = grid.order[t]
+                if j > i and box[t, 0] <= hi0 and box[t, 3] >= lo0 and box[t, 1] <= hi1 and box[t, 4] >= lo1 \
+                        and box[t, 5] >= lo2 and may_collide(S, i, j, avoid_self):
+                    n = add_partner(j, n, base, cap, out)
     return n
 
 
 @jit
-def listed_partners(i, S, ids, avoid_self, n, base, out):
+def listed_partners(i, S, ids, avoid_self, n, base, cap, out):
     """Partners j > i of body ``i`` among the bodies ``ids`` (in id order)."""
     for j in ids:
         if j > i and overlap(S, i, j) and may_collide(S, i, j, avoid_self):
-            n = add_partner(i, j, n, base, out)
+            n = add_partner(j, n, base, cap, out)
     return n
 
 
 @jit
-def small_partners(i, S, grid, avoid_self, n, base, out):
+def small_partners(i, S, grid, avoid_self, base, cap, out):
     """Partners j > i of small body ``i``: small bodies in the 27 cells around its cell, binned large bodies
     in the cells its bound covers (each counted in the first cell both cover), and the ``rest``."""
     c = grid.cell
     n = small_in_cells(i, S, grid, avoid_self, (c[i, 0] - 1, c[i, 1] - 1, c[i, 2] - 1),
-                       (c[i, 0] + 1, c[i, 1] + 1, c[i, 2] + 1), n, base, out)
+                       (c[i, 0] + 1, c[i, 1] + 1, c[i, 2] + 1), 0, base, cap, out)
     if grid.large_order.shape[0] > 0:
         dims = grid.dims
         x0, y0, z0, x1, y1, z1 = cell_span(S, i, grid.lo, grid.h, dims)
         for cx in range(x0, x1 + 1):
             for cy in range(y0, y1 + 1):
                 for cz in range(z0, z1 + 1):
-                    a, b = cell_range((cx * dims[1] + cy) * dims[2] + cz, grid.large_keys, grid.large_dense)
+                    key = (cx * dims[1] + cy) * dims[2] + cz
+                    a, b = cell_run(key, key, grid.large_keys, grid.large_dense)
                     for t in range(a, b):
                         j = grid.large_order[t]
                         if j <= i or not overlap(S, i, j):
@@ -299,57 +314,53 @@ def small_partners(i, S, grid, avoid_self, n, base, out):
                         u0, v0, w0, _, _, _ = cell_span(S, j, grid.lo, grid.h, dims)
                         if cx == max(x0, u0) and cy == max(y0, v0) and cz == max(z0, w0) and \
                                 may_collide(S, i, j, avoid_self):
-                            n = add_partner(i, j, n, base, out)
-    return listed_partners(i, S, grid.rest, avoid_self, n, base, out)
+                            n = add_partner(j, n, base, cap, out)
+    return listed_partners(i, S, grid.rest, avoid_self, n, base, cap, out)
 
 
 @jit
-def binned_large_partners(i, S, grid, avoid_self, n, base, out):
+def binned_large_partners(i, S, grid, avoid_self, base, cap, out):
     """Partners j > i of binned large body ``i``: small bodies binned in the cells its bound covers or just
     below them (a small bound reaches one cell above its own), and the large bodies."""
     x0, y0, z0, x1, y1, z1 = cell_span(S, i, grid.lo, grid.h, grid.dims)
-    n = small_in_cells(i, S, grid, avoid_self, (x0 - 1, y0 - 1, z0 - 1), (x1, y1, z1), n, base, out)
-    return listed_partners(i, S, grid.large, avoid_self, n, base, out)
+    n = small_in_cells(i, S, grid, avoid_self, (x0 - 1, y0 - 1, z0 - 1), (x1, y1, z1), 0, base, cap, out)
+    return listed_partners(i, S, grid.large, avoid_self, n, base, cap, out)
 
 
 @jit
-def partners_of(i, S, nb, grid, avoid_self, count, start, out):
-    """Partners j > i of body ``i``: counted into ``count[i]`` (``out`` empty) or written from ``start[i]``
-    in increasing j."""
+def partners_of(i, S, nb, grid, avoid_self, base, cap, out):
+    """Number of partners j > i of body ``i``; the first ``cap`` of them are written to ``out[base:]``, in
+    increasing j when all fit."""
     if not (S.bound_min[i, 0] <= S.bound_max[i, 0]):
-        return
-    fill = out.shape[0] > 0
-    base = start[i] if fill else 0
-    in_order = False
+        return 0
     if grid.small[i]:
-        n = small_partners(i, S, grid, avoid_self, 0, base, out)
+        n = small_partners(i, S, grid, avoid_self, base, cap, out)
     elif is_binned_large(i, grid):
-        n = binned_large_partners(i, S, grid, avoid_self, 0, base, out)
+        n = binned_large_partners(i, S, grid, avoid_self, base, cap, out)
     else:
         n = 0
         for j in range(i + 1, nb):  # in id order: already sorted
             if S.bound_min[j, 0] <= S.bound_max[j, 0] and overlap(S, i, j) and may_collide(S, i, j, avoid_self):
-                n = add_partner(i, j, n, base, out)
-        in_order = True
-    if not fill:
-        count[i] = n
-    elif not in_order:
+                n = add_partner(j, n, base, cap, out)
+        return n
+    if n <= cap:
         sort_partners(out, base, n)
+    return n
 
 
 @jit
 def sort_partners(out, base, n):
-    """Sort the partner ids ``out[base:base + n, 1]`` (insertion sort for the short lists of small bodies)."""
+    """Sort the partner ids ``out[base:base + n]`` (insertion sort for the short lists of small bodies)."""
     if n > 32:
-        out[base:base + n, 1] = np.sort(out[base:base + n, 1])
+        out[base:base + n] = np.sort(out[base:base + n])
         return
     for u in range(base + 1, base + n):
-        v = out[u, 1]
+        v = out[u]
         w = u - 1
-        while w >= base and out[w, 1] > v:
-            out[w + 1, 1] = out[w, 1]
+        while w >= base and out[w] > v:
+            out[w + 1] = out[w]
             w -= 1
-        out[w + 1, 1] = v
+        out[w + 1] = v
 
 
 @jit
@@ -360,24 +371,59 @@ def is_binned_large(i, grid):
 
 
 @jit
-def partners_block(b, S, nb, grid, avoid_self, count, start, out):
-    """Bodies of block ``b`` (borrowing the arrays: no reference counting per body)."""
-    grid, count, start, out = borrow((grid, count, start, out))
+def scratch_width(pairs_before, nb):
+    """Partners per body kept by the first pass of :func:`find_pairs` (a body with more is searched again):
+    twice the mean of the last run plus 8, at most 64 (4 bytes each)."""
+    return min(64, 2 * pairs_before // max(nb, 1) + 8)
+
+
+@jit
+def scratch_block(b, S, nb, grid, avoid_self, count, scratch, width):
+    """First pass over the bodies of block ``b`` (borrowing the arrays: no reference counting per body):
+    count each body's partners, keeping up to ``width`` of them, sorted, in its slots of ``scratch``."""
+    grid, count, scratch = borrow((grid, count, scratch))
     for i in range(b * BLOCK, min(nb, (b + 1) * BLOCK)):
-        partners_of(i, S, nb, grid, avoid_self, count, start, out)
+        count[i] = partners_of(i, S, nb, grid, avoid_self, i * width, width, scratch)
 
 
-def _partners(S, nb, grid, avoid_self, count, start, out):
-    """Pass 1 (``out`` empty): count partners j > i of each body. Pass 2: write them."""
+def _scratch_pass(S, nb, grid, avoid_self, count, scratch, width):
     queue = block_queue((nb + BLOCK - 1) // BLOCK)
     for w in prange(queue_workers(queue)):
         b = next_block(queue, w, -1)
         while b >= 0:
-            partners_block(b, S, nb, grid, avoid_self, count, start, out)
+            scratch_block(b, S, nb, grid, avoid_self, count, scratch, width)
             b = next_block(queue, w, b)
 
 
-partners, partners_par = kernel(_partners)
+scratch_pass, scratch_pass_par = kernel(_scratch_pass)
+
+
+@jit
+def write_block(b, S, nb, grid, avoid_self, count, scratch, width, start, out):
+    """Second pass over block ``b``: each body's partners into its rows of ``out`` (copied from ``scratch``,
+    or searched again for a body with more than ``width``)."""
+    grid, count, scratch, start, out = borrow((grid, count, scratch, start, out))
+    for i in range(b * BLOCK, min(nb, (b + 1) * BLOCK)):
+        n = count[i]
+        s = start[i]
+        if n <= width:
+            for t in range(n):
+                out[s + t, 0] = i
+                out[s + t, 1] = scratch[i * width + t]
+            continue
+        ids = np.empty(n, np.int32)
+        partners_of(i, S, nb, grid, avoid_self, 0, n, ids)
+        for t in range(n):
+            out[s + t, 0] = i
+            out[s + t, 1] = ids[t]
+
+
+@jit
+def write_pass(S, nb, grid, avoid_self, count, scratch, width, start, out):
+    """:func:`write_block` over all bodies, serially: mostly a copy (a parallel twin would cost more to compile
+    than it saves)."""
+    for b in range((nb + BLOCK - 1) // BLOCK):
+        write_block(b, S, nb, grid, avoid_self, count, scratch, width, start, out)
 
 
 @jit
@@ -495,8 +541,22 @@ def bin_large(S, large, nsmall, lo, h, dims, dense):
 
 
 @jit
-def find_pairs(S, nb, avoid_self):
-    """All pairs (i < j) with overlapping bounds that may collide, sorted, shape (P, 2)."""
+def sort_cells_by_z(keys_sorted, order, box):
+    """Sort the bodies of each cell by the lower z of their bounds (insertion sort, stable: the few bodies of a
+    cell stay in id order on ties). The cells of a column along z are then one run sorted by lower z."""
+    for t in range(1, order.shape[0]):
+        u = t
+        while u > 0 and keys_sorted[u - 1] == keys_sorted[u] and box[u - 1, 2] > box[u, 2]:
+            order[u - 1], order[u] = order[u], order[u - 1]
+            for k in range(6):
+                box[u - 1, k], box[u, k] = box[u, k], box[u - 1, k]
+            u -= 1
+
+
+@jit
+def find_pairs(S, nb, avoid_self, pairs_before):
+    """All pairs (i < j) with overlapping bounds that may collide, sorted, shape (P, 2), and the start of each
+    body's pairs, (nb + 1,); ``pairs_before``: the pair count of the last run (sizes the first pass)."""
     small, idx, large, h = grid_bodies(S, nb)
     # bin the small bodies by the cell of their lower corner
     cell = np.zeros((nb, 3), np.int64)
@@ -526,29 +586,34 @@ def find_pairs(S, nb, avoid_self):
     perm = argsort_keys(keys)
     order = np.empty(idx.shape[0], np.int32)
     keys_sorted = np.empty(idx.shape[0], np.int64)
+    box = np.empty((idx.shape[0], 6))
     for t in range(idx.shape[0]):
-        order[t] = idx[perm[t]]
+        i = idx[perm[t]]
+        order[t] = i
         keys_sorted[t] = keys[perm[t]]
+        for k in range(3):
+            box[t, k] = S.bound_min[i, k]
+            box[t, 3 + k] = S.bound_max[i, k]
+    sort_cells_by_z(keys_sorted, order, box)
     ncells = dims[0] * dims[1] * dims[2]
     dense = ncells <= 4 * idx.shape[0] + 1024
     large_order, large_keys, large_dense, rest = bin_large(S, large, idx.shape[0], lo, h, dims, dense)
-    grid = BodyGrid(small, cell, dims, lo, h, order, keys_sorted, cell_table(keys_sorted, ncells, dense), large,
-                    large_order, large_keys, large_dense, rest)
+    grid = BodyGrid(small, cell, dims, lo, h, order, keys_sorted, box, cell_table(keys_sorted, ncells, dense),
+                    large, large_order, large_keys, large_dense, rest)
+    # one search per body, keeping its first partners; only bodies with more are searched again
     count = np.zeros(nb, np.int64)
-    start = np.zeros(nb + 1, np.int64)
-    none = np.zeros((0, 2), np.int32)
+    width = scratch_width(pairs_before, nb)
+    scratch = np.empty(nb * width, np.int32)
     par = nb >= PARALLEL_THRESHOLD
     if par:
-        partners_par(S, nb, grid, avoid_self, count, start, none)
+        scratch_pass_par(S, nb, grid, avoid_self, count, scratch, width)
     else:
-        partners(S, nb, grid, avoid_self, count, start, none)
+        scratch_pass(S, nb, grid, avoid_self, count, scratch, width)
+    start = np.zeros(nb + 1, np.int64)
     for i in range(nb):
         start[i + 1] = start[i] + count[i]
     out = np.empty((start[nb], 2), np.int32)
-    if par:
-        partners_par(S, nb, grid, avoid_self, count, start, out)
-    else:
-        partners(S, nb, grid, avoid_self, count, start, out)
+    write_pass(S, nb, grid, avoid_self, count, scratch, width, start, out)
     return out, start
 
 
@@ -623,22 +688,23 @@ def cell_moved(S, verlet):
     return math.sqrt(3.0 * change) > 0.5 * verlet
 
 
-def cell_pairs(cell, S, nb, avoid_self, allow_bigger):
+def cell_pairs(cell, S, nb, avoid_self, allow_bigger, pairs_before):
     """``(pairs, start, cells, too_large, axis)`` of the broad phase for the kind of cell ``cell``, a static
     ``("cell", periodic)`` (:mod:`granum.kernels.static`): aperiodic scenes compile no periodic broad phase."""
     raise TypeError("cell_pairs is called from compiled kernels only")
 
 
 @overload(cell_pairs)
-def _cell_pairs(cell, S, nb, avoid_self, allow_bigger):
+def _cell_pairs(cell, S, nb, avoid_self, allow_bigger, pairs_before):
     value = static_value(cell, "cell")
     if value is None:
         return None
     if value[1]:
-        return lambda cell, S, nb, avoid_self, allow_bigger: find_pairs_periodic(S, nb, avoid_self, allow_bigger)
+        return lambda cell, S, nb, avoid_self, allow_bigger, pairs_before: find_pairs_periodic(S, nb, avoid_self,
+                                                                                                allow_bigger)
 
-    def aperiodic(cell, S, nb, avoid_self, allow_bigger):
-        pairs, start = find_pairs(S, nb, avoid_self)
+    def aperiodic(cell, S, nb, avoid_self, allow_bigger, pairs_before):
+        pairs, start = find_pairs(S, nb, avoid_self, pairs_before)
         # no images: pair_cell is read in periodic cells only
         return pairs, start, np.zeros((0, 3), np.int32), -1, -1
 
@@ -675,6 +741,11 @@ def collider_stage(S, C, P):
     S.scal[S_VERLET] = verlet
     # a relative displacement of two bodies between collider runs stays near 2 verlet: int16 units cover 4
     S.scal[S_PAIR_REF_UNIT] = verlet / 8192.0 if verlet > 0.0 else 1e-9
+    # the new budgets of pairs with a turning body hold as much rotation as the last interval between runs saw
+    # (see granum.kernels.interaction.detect_block)
+    S.scal[S_TURN_ALLOWANCE] = S.scal[S_TURN_SEEN]
+    S.scal[S_TURN_SEEN] = 0.0
+    pairs_before = C.ctr[C_PAIRS]
     # drop the old pair list first: at a million bodies it takes hundreds of MB (relink needs only the contacts)
     C.ctr[C_PAIRS] = 0
     C.pair_ids = np.zeros((0, 2), np.int32)
@@ -691,7 +762,8 @@ def collider_stage(S, C, P):
         # bodies and the cell share the Verlet budget: each may use half of it
         S.scal[S_VERLET] = 0.5 * verlet
         copy_rows(S.cell_bound_hsize, S.cell_hsize, 3)
-    pairs, start, cells, too_large, axis = cell_pairs(P.cell, R, nb, P.avoid_self, P.allow_bigger)
+    pairs, start, cells, too_large, axis = cell_pairs(P.cell, R, nb, P.avoid_self, P.allow_bigger,
+                                                          pairs_before)
     if too_large >= 0:
         C.ctr[C_STATUS] = STATUS_TOO_LARGE
         C.ctr[C_ERR_A] = too_large

