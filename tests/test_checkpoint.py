@@ -129,6 +129,51 @@ def test_checkpoint_resumes_in_a_new_process(yade, tmp_path):
     assert (np.load(tmp_path / "pos.npy") == expected).all()
 
 
+_PILE = """
+O.reset()
+O.bodies.append([sphere((0, 0, 0), 0.01, fixed=True)] + [sphere((1e-4 * k, 0, 0.0199 * k), 0.01) for k in range(1, 4)])
+O.engines = [ForceResetter(), InsertionSortCollider([Bo1_Sphere_Aabb()]),
+             InteractionLoop([Ig2_Sphere_Sphere_ScGeom()], [Ip2_FrictMat_FrictMat_FrictPhys()],
+                             [Law2_ScGeom_FrictPhys_CundallStrack()]),
+             NewtonIntegrator(gravity=(0, 0, -9.81), damping=0.2)]
+O.dt = 0.5 * PWaveTimeStep()
+O.run(300, True)
+"""
+
+
+def test_a_law_registered_but_unused_when_saving_does_not_stop_a_resume(tmp_path):
+    """A script that defined its own law (with contact history columns of its own: examples/user_law.py) saves a
+    scene whose contacts do not use it; a new process without that law resumes it with the same trajectory.
+    Only the history columns and functors the saved contacts use must mean the same in both."""
+    example = pathlib.Path(__file__).resolve().parents[1] / "examples" / "user_law.py"
+    (tmp_path / "save.py").write_text(
+        f"import numpy\nexec(compile(open({str(example)!r}).read(), 'user_law.py', 'exec'))\n" + _PILE
+        + "O.save('s.yade')\nO.run(200, True)\n"
+        "numpy.save('expected.npy', numpy.array([b.state.pos for b in O.bodies]))\n")
+    (tmp_path / "resume.py").write_text(
+        "import numpy\nO.load('s.yade')\nO.run(200, True)\n"
+        "numpy.save('pos.npy', numpy.array([b.state.pos for b in O.bodies]))\n")
+    for script in ("save.py", "resume.py"):
+        subprocess.run([sys.executable, "-m", "granum", script], cwd=tmp_path, check=True, timeout=600,
+                       capture_output=True)
+    assert (np.load(tmp_path / "pos.npy") == np.load(tmp_path / "expected.npy")).all()
+
+
+def test_history_columns_the_saved_pool_holds_must_mean_the_same():
+    """A group of history columns within the saved pool's width that is missing here, or placed elsewhere, is
+    refused naming it; one beyond the width is not looked at."""
+    from granum.io.checkpoint import _history_check, layout
+
+    now = layout()["contact_history"]
+    width = max(first + count for first, count in now.values())
+    _history_check({**now, "users_law": [width, 4]}, width, "f")           # beyond the pool: not used
+    with pytest.raises(CheckpointError, match="other contact history \\(users_law"):
+        _history_check({**now, "users_law": [width - 1, 4]}, width, "f")
+    name, (first, count) = next(iter(now.items()))
+    with pytest.raises(CheckpointError, match=f"other contact history \\({name}"):
+        _history_check({**now, name: [first + 1, count]}, width, "f")
+
+
 def _damage(path: pathlib.Path, how: str) -> None:
     data = path.read_bytes()
     if how == "truncated":

@@ -390,35 +390,55 @@ def _tagged(node, tag: str):
 
 
 def _codes_translate(contacts, saved: dict, source: str) -> None:
-    """Map the functor codes of the contact pool from the saved registry order to this granum's."""
+    """Map the functor codes of the contact pool from the saved registry order to this granum's. Only the
+    functors its contacts use must exist here (a script's own law registered when the file was written, which
+    none of its contacts uses, does not matter)."""
     now = layout()["functors"]
     k = int(contacts.ctr[C_CONTACTS])
     for role, col in _CODE_COLUMNS.items():
         names = saved.get(role)
         if names == now[role]:
             continue
-        missing = [n for n in names if n not in now[role]]
-        if missing:
-            raise CheckpointError(f"{source}: contacts use the functor {missing[0]}, which this granum does not have"
-                                  f"{_USER_DEFINED}")
-        lut = np.array([now[role].index(n) for n in names] + [-1], np.int32)  # code -1 stays -1
         codes = contacts.con_i[:k, col]
         if np.any((codes < -1) | (codes >= len(names))):
             raise CheckpointError(f"{source}: corrupt checkpoint (contact functor code out of range)")
-        contacts.con_i[:k, col] = lut[codes]
+        used = {names[c] for c in np.unique(codes) if c >= 0}
+        missing = sorted(n for n in used if n not in now[role])
+        if missing:
+            raise CheckpointError(f"{source}: contacts use the functor {missing[0]}, which this granum does not have"
+                                  f"{_USER_DEFINED}")
+        lut = np.array([now[role].index(n) if n in now[role] else -1 for n in names] + [-1], np.int32)
+        contacts.con_i[:k, col] = lut[codes]  # code -1 stays -1
 
 
 def _layout_check(saved, source: str) -> None:
     now = layout()
     if not isinstance(saved, dict) or set(saved) != set(now):
         raise CheckpointError(f"{source}: corrupt checkpoint (no valid layout record)")
-    for key in ("shapes", "contact_history", "energy"):
+    for key in ("shapes", "energy"):
         if saved[key] != now[key]:
             raise CheckpointError(f"{source} was written by a granum with other {key.replace('_', ' ')} "
                                   f"({saved[key]}; this granum: {now[key]}); it cannot be resumed here")
+    if not isinstance(saved["contact_history"], dict):
+        raise CheckpointError(f"{source}: corrupt checkpoint (no contact history record)")
     if not isinstance(saved["functors"], dict) or not all(
             isinstance(saved["functors"].get(r), list) for r in _CODE_COLUMNS):
         raise CheckpointError(f"{source}: corrupt checkpoint (no functor table)")
+
+
+def _history_check(saved: dict, width: int, source: str) -> None:
+    """The contact history columns the saved pool holds (its ``width`` first ``con_f`` columns) must mean here
+    what they meant when the file was written: every group that has one of them, in the file's registry or in
+    this granum's, has the same columns in both. Groups beyond the pool (a script's own law registered then,
+    which none of the saved contacts used) do not matter."""
+    now = layout()["contact_history"]
+    for name in sorted(set(saved) | set(now)):
+        ranges = [r for r in (saved.get(name), now.get(name)) if r is not None]
+        if any(not (isinstance(r, list) and len(r) == 2 and all(type(x) is int for x in r)) for r in ranges):
+            raise CheckpointError(f"{source}: corrupt checkpoint (contact history record of {name})")
+        if any(r[0] < width for r in ranges) and saved.get(name) != now.get(name):
+            raise CheckpointError(f"{source} was written by a granum with other contact history ({name}: "
+                                  f"{saved.get(name)}; this granum: {now.get(name)}); it cannot be resumed here")
 
 
 def _range(a: np.ndarray, lo: int, hi: int, what: str, source: str) -> None:
@@ -531,6 +551,7 @@ def scene_decode(meta, arrays: dict[str, np.ndarray], source: str, namespace: di
             and all(isinstance(m, material) for m in materials + scene.materials)
             and all(isinstance(e, Engine) for e in scene.engines)):
         raise CheckpointError(f"{source}: corrupt checkpoint (materials or engines of the wrong type)")
+    _history_check(meta["layout"]["contact_history"], scene.contacts.con_f.shape[1], source)
     _codes_translate(scene.contacts, meta["layout"]["functors"], source)
     scene_check(scene, source)
     scene_values_check(scene, source)
