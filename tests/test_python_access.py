@@ -129,3 +129,111 @@ def test_bulk_arrays_equal_the_per_item_values(yade):
     assert 4 not in y.O.bodies.arrays()["ids"].tolist()
     with pytest.raises(ValueError, match="'position'"):
         y.O.bodies.arrays("position")
+
+
+def test_walked_norms_equal_the_bulk_arrays(yade):
+    """The walk of the benchmark (python_walk.py): each ``i.phys.normalForce.norm()`` is sqrt(x² + y² + z²) of its
+    own contact's force, read from the bulk array of the same forces (same bits), and so is the sum."""
+    y = yade
+    _pile(y)
+    y.O.run(3, True)
+    walked = [(i.id1, i.id2, i.phys.normalForce.norm(), tuple(i.phys.normalForce)) for i in y.O.interactions]
+    bulk = y.O.interactions.arrays("normalForce")
+    fn = bulk["normalForce"]
+    norms = np.sqrt(fn[:, 0] * fn[:, 0] + fn[:, 1] * fn[:, 1] + fn[:, 2] * fn[:, 2])
+    assert [w[:2] for w in walked] == list(zip(bulk["id1"].tolist(), bulk["id2"].tolist(), strict=True))
+    assert [w[2] for w in walked] == norms.tolist() and [w[3] for w in walked] == [tuple(f) for f in fn.tolist()]
+    assert sum(w[2] for w in walked) == pytest.approx(norms.sum(), rel=1e-13) and norms.min() > 0
+    assert [w[2] for w in walked] == [y.Vector3(*w[3]).norm() for w in walked]  # as a plain Vector3's
+
+
+def test_held_values_follow_their_contact_through_compaction(yade):
+    """``fn = i.phys.normalForce`` and ``ph = i.phys`` are bound to their interaction, as YADE's: after steps that
+    end contacts and compact the rows (the others move), each still reads and writes its own contact's columns."""
+    y = yade
+    _pile(y)
+    y.O.step()
+    held = {(i.id1, i.id2): (i, i.phys, i.phys.normalForce, i.geom) for i in y.O.interactions}
+    first_rows = {key: intr_module.find_contact(y.O._scene, *key) for key in held}
+    moved, wrote = set(), False
+    for _ in range(30):
+        y.O.run(25, True)
+        truth = _brute_force(y)
+        for key, (i, ph, fn, geom) in held.items():
+            if key not in truth:
+                assert not i.isReal and i.phys is None
+                with pytest.raises(RuntimeError, match="no longer real"):
+                    fn.norm()
+                continue
+            if intr_module.find_contact(y.O._scene, *key) != first_rows[key]:
+                moved.add(key)
+            assert tuple(fn) == truth[key] == tuple(ph.normalForce) and fn.norm() == y.Vector3(*truth[key]).norm()
+            assert ph.kn == i.phys.kn and geom.penetrationDepth == i.geom.penetrationDepth > 0
+        if moved and not wrote:  # writes go to the contact's own row, wherever it moved
+            key, wrote = min(moved), True
+            i, ph, fn, _ = held[key]
+            fn[0] = 1.5
+            assert _brute_force(y)[key][0] == 1.5 and i.phys.normalForce[0] == 1.5
+            ph.normalForce = (1.0, 2.0, 3.0)
+            fn += (1.0, 0.0, 0.0)
+            assert _brute_force(y)[key] == (2.0, 2.0, 3.0) == tuple(i.phys.normalForce)
+    assert len(moved) > 5 and wrote  # rows moved under the held values (compaction), which followed their contacts
+
+
+def test_held_values_of_an_erased_interaction(yade):
+    """As in YADE: once erased, the interaction is not real and has no phys, while the values taken from it
+    before show its last values; after a step they follow the pair's contact if it formed again, and raise if
+    not."""
+    y = yade
+    _pile(y)
+    y.O.run(3, True)
+    i = next(iter(y.O.interactions))
+    ph, fn, last = i.phys, i.phys.normalForce, tuple(i.phys.normalForce)
+    y.O.interactions.erase(i.id1, i.id2)
+    assert not i.isReal and i.phys is None and i.geom is None
+    assert tuple(fn) == last and ph.normalForce.norm() == y.Vector3(*last).norm()
+    y.O.run(50, True)
+    key = (i._id1, i._id2)
+    if key in _brute_force(y):
+        assert tuple(fn) == _brute_force(y)[key]
+    else:
+        with pytest.raises(RuntimeError, match="no longer real"):
+            _ = ph.kn
+
+
+def test_field_values_are_plain_values_when_copied_or_computed(yade):
+    """A bound vector, quaternion or matrix reports and prints as its plain type; arithmetic, copies and pickles
+    give plain values that later steps do not change."""
+    import copy
+    import pickle
+
+    y = yade
+    _pile(y, 2)
+    y.O.run(2, True)
+    i = next(iter(y.O.interactions))
+    fn = i.phys.normalForce
+    assert isinstance(fn, y.Vector3) and type(fn).__name__ == "Vector3" and repr(fn).startswith("Vector3(")
+    plain = [copy.copy(fn), copy.deepcopy(fn), pickle.loads(pickle.dumps(fn)), fn * 1.0, fn + (0, 0, 0), -fn * -1.0]
+    assert all(type(v) is y.Vector3 and v == fn for v in plain)
+    before = tuple(fn)
+    fn[0] = before[0] + 1.0
+    assert [tuple(v) for v in plain] == [before] * len(plain) and fn[0] == before[0] + 1.0
+    assert np.asarray(fn).tolist() == list(fn) and fn.dot((1, 0, 0)) == fn[0] and abs(fn) == fn.norm()
+
+
+def test_in_place_operations_on_held_values_write_their_contact(yade):
+    """``fn *= 2``, ``fn /= 2``, ``fn.normalize()``, ``fn -= v`` on a held field change its contact's row."""
+    y = yade
+    _pile(y, 2)
+    y.O.run(2, True)
+    i = next(iter(y.O.interactions))
+    key, fn = (i.id1, i.id2), i.phys.normalForce
+    x0 = _brute_force(y)[key]
+    fn *= 2.0
+    assert _brute_force(y)[key] == tuple(2.0 * x for x in x0)
+    fn /= 2.0
+    fn -= (x0[0], 0.0, 0.0)
+    assert _brute_force(y)[key] == (0.0, x0[1], x0[2])
+    fn[1], fn[2] = 3.0, 4.0
+    fn.normalize()
+    assert _brute_force(y)[key] == (0.0, 0.6, 0.8) and fn.norm() == 1.0

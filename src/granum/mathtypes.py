@@ -321,6 +321,11 @@ class _Vector(_Dense):
 
     Identity = _unit(0)  # YADE's Vector3.Identity is (1, 0, 0)
 
+    def __getitem__(self, i):
+        if type(i) is int and 0 <= i < self._shape[0]:  # the common case, without _index's checks
+            return self._a.item(i)
+        return self._a[_index(i, self._shape[0])].item()
+
     @classmethod
     def Unit(cls, i):
         return cls._new(np.eye(1, cls._shape[0], _index(i, cls._shape[0]), dtype=cls._dtype)[0])

@@ -66,6 +66,7 @@ class _Nursery(BodyStore):
 
 
 _NURSERY = _Nursery()
+_new_object = object.__new__  # handles made without a Python call (walks over O.bodies)
 
 
 def _new_detached() -> tuple[BodyStore, int]:
@@ -126,10 +127,11 @@ class Body:
     # ---- parts ----------------------------------------------------------------------
     @property
     def state(self) -> State:
-        cpm = self._store.bodies.stored("cpm_state")
-        if self._row < cpm.shape[0] and cpm[self._row, CPM_IS_STATE] != 0.0:
-            return CpmState._view(self)
-        return State._view(self)
+        cpm = vars(self._store.bodies).get("cpm_state")  # Table.stored without its empty array for a lazy column
+        cpm_state = cpm is not None and self._row < cpm.shape[0] and cpm[self._row, CPM_IS_STATE] != 0.0
+        st = _new_object(CpmState if cpm_state else State)  # State._view, inlined
+        st._body = self
+        return st
 
     @state.setter
     def state(self, st: State) -> None:
@@ -276,21 +278,14 @@ class Body:
         if self._attached():
             self._store.needs_collider()
 
-    def __setattr__(self, name, value):
-        if not hasattr(type(self), name):
-            raise AttributeError(f"Body has no attribute {name!r}")
-        object.__setattr__(self, name, value)
 
 
 class _View:
-    """A view through a body handle; unknown attribute names raise AttributeError."""
+    """A view through a body handle; unknown attribute names raise AttributeError (the classes have slots and no
+    ``__dict__``; like ``Body``, they define no ``__setattr__``, which would disable CPython's fast attribute
+    paths in walks over ``O.bodies``)."""
 
     __slots__ = ("_body",)
-
-    def __setattr__(self, name, value):
-        if name != "_body" and not hasattr(type(self), name):
-            raise AttributeError(f"{type(self).__name__} has no attribute {name!r}")
-        object.__setattr__(self, name, value)
 
     def _col(self, name: str):
         return self._body._col(name)
@@ -306,7 +301,8 @@ class _View:
 
 def _vec_property(column: str, doc: str, touch: bool = False):
     def get(self):
-        return Vector3._new(self._col(column)[self._row])  # a float64 (n, 3) column: its row needs no check
+        body = self._body
+        return Vector3._new(getattr(body._store.bodies, column)[body._row])  # float64 (n, 3): no check needed
 
     def set(self, value):
         self._col(column)[self._row] = _finite3(self._owner(), column, value)
@@ -701,9 +697,9 @@ class Clump(Shape):
 
 def _body_of(scene: Scene, i: int) -> Body:
     """The handle of body ``i`` (a Python int) of ``scene``."""
-    b = object.__new__(Body)
-    object.__setattr__(b, "_store", scene)
-    object.__setattr__(b, "_row", i)
+    b = _new_object(Body)
+    b._store = scene
+    b._row = i
     return b
 
 
@@ -741,8 +737,12 @@ class BodyContainer:
 
     def __iter__(self):
         scene = self._scene
+        new = _new_object
         for i in np.flatnonzero(scene.bodies.alive[:scene.body_count]).tolist():
-            yield _body_of(scene, i)
+            b = new(Body)  # _body_of, inlined
+            b._store = scene
+            b._row = i
+            yield b
 
     #: ``arrays()`` names: YADE's State attribute (or O.forces quantity) -> body column
     ARRAY_COLUMNS = {"pos": "pos", "vel": "vel", "angVel": "ang_vel", "ori": "ori", "angMom": "ang_mom",

@@ -4,10 +4,19 @@ An :class:`Interaction` is a handle ``(scene, id1, id2)``; it finds its row in t
 interaction storage when accessed (rows move when dead contacts are compacted) and
 reads and writes the columns of that row. The classes of ``i.geom`` and ``i.phys``
 (``ScGeom``, ``FrictPhys``, ...) are generated from the types of the registry,
-with the attributes their physics modules expose.
+with the attributes their physics modules expose. A vector, quaternion or matrix
+field (``i.phys.normalForce``) is bound to its interaction, as YADE's: it reads and
+writes that contact's columns wherever compaction moves its row.
+
+Walking ``O.interactions`` costs O(1) per item, and little: the iterator hands every
+handle its row and the shared :class:`_Rows` of the storage it was found in, and the
+views read the columns through memoryviews (a NumPy index or slice costs several
+times more than the Python-level work of the walk).
 """
 
 from __future__ import annotations
+
+from math import sqrt
 
 import numpy as np
 
@@ -28,7 +37,7 @@ from granum.core.contacts import (
     end_contact,
 )
 from granum.kernels.dispatch import functors
-from granum.mathtypes import Matrix3, Quaternion, Vector3, Vector3i
+from granum.mathtypes import Matrix3, Quaternion, Vector3, Vector3i, _index
 from granum.physics import registry
 from granum.yade._pausing import pauses_the_run
 
@@ -101,33 +110,85 @@ def _holds(C, row: int, a: int, b: int) -> bool:
     return bool(flags & FLAG_ALIVE) and ((id1 == a and id2 == b) or (id1 == b and id2 == a))
 
 
+class _Rows:
+    """Where contact rows were found: the ``scene``, its storage ``C`` of that moment, its count of ended rows
+    ``dead`` and flat memoryviews of its columns, shared by every handle found in it: ``f[row * fw + column]``
+    is ``con_f[row, column]``, ``i[row * iw + column]`` is ``con_i[row, column]`` (the storage is allocated
+    C-contiguous; a memoryview reads a number several times faster than NumPy's indexing), ``ctr`` the
+    counters, ``geom``/``phys`` the functor codes by row; ``geom_class``/``phys_class``, once a walk has found
+    that all the live contacts have the same one, their view class (else None: read by row).
+
+    Rows move and are reused only inside compiled code, after which the runner (or ``createInteraction``) stores
+    new arrays in the scene; from Python they only end, through ``end_contact``, which counts them and leaves
+    their values in place. So while ``C`` is the scene's, a row found in it holds the same contact's values (the
+    last ones, if it has ended since: what YADE's phys object shows once erased): the value reads check only
+    that (``_Bound``, ``_field_property``). While, besides, its count of ended rows is still ``dead``, the
+    contact is as real as it was (``Interaction._row``)."""
+
+    __slots__ = ("scene", "C", "dead", "f", "fw", "i", "iw", "ctr", "geom", "phys", "geom_class", "phys_class")
+
+    def __init__(self, scene, C=None):
+        self.scene, self.C = scene, C
+        if C is None:  # nothing found yet: never current (C is not the scene's storage), so nothing else is read
+            self.dead = -1
+            return
+        self.f, self.fw = memoryview(C.con_f).cast("B").cast("d"), C.con_f.shape[1]
+        self.i, self.iw = memoryview(C.con_i).cast("B").cast("i"), C.con_i.shape[1]
+        self.geom, self.phys = memoryview(C.con_i[:, I_GEOM]), memoryview(C.con_i[:, I_PHYS])  # functor codes
+        self.ctr = memoryview(C.ctr)
+        self.dead = self.ctr[C_DEAD]
+        self.geom_class = self.phys_class = None
+
+    def find_classes(self, rows: np.ndarray) -> None:
+        """Set ``geom_class``/``phys_class`` where the functors of all the live contacts ``rows`` (the codes from
+        the least to the largest) make views of one class (rows are only made in compiled code, in a new storage,
+        so this holds for every handle of this one)."""
+        for role, column in (("geom", I_GEOM), ("phys", I_PHYS)):
+            codes = self.C.con_i[rows, column]
+            if codes.size:
+                classes = {_view_class(role, c) for c in range(int(codes.min()), int(codes.max()) + 1)}
+                setattr(self, f"{role}_class", classes.pop() if len(classes) == 1 else None)
+
+
+_rows_cache = [_Rows(None)]
+
+
+def _rows_of(scene) -> _Rows:
+    """The :class:`_Rows` of the scene's storage now (one object per storage and count of ended rows)."""
+    at = _rows_cache[0]
+    if at.scene is not scene or at.C is not scene.contacts or at.ctr[C_DEAD] != at.dead:
+        at = _rows_cache[0] = _Rows(scene, scene.contacts)
+    return at
+
+
 class _ContactView:
     """Attributes mapped onto float columns of one contact row (see TypeInfo.fields): a float (width 1; a
     ``(column, 1, "bool")`` field reads as a bool, ``(column, 1, "int")`` as an int), a Vector3 (3), a Quaternion
     (4, w x y z) or a Matrix3 (9). Each field is a property of the generated class (``add_views``): reading one
-    costs O(1)."""
+    costs O(1). Other names raise AttributeError (the class has slots and no ``__dict__``).
 
-    __slots__ = ("_intr",)
+    ``i.geom`` and ``i.phys`` make the view with its interaction ``_intr`` and the row ``_row`` it had in the
+    storage ``_at`` (:class:`_Rows`). Its values are read there while that storage is the scene's (from Python,
+    rows only end and keep their values: an erased interaction's view shows its last values, as YADE's); after
+    a step has replaced it, the view finds its interaction's row again (``_moved``), and raises if the
+    interaction is no longer real. The class defines no ``__init__``, ``__getattr__`` or ``__setattr__``: each
+    would cost the walks a Python call per view or disable CPython's fast attribute paths. A view made by
+    calling its class (``FrictPhys()``) belongs to no interaction: reading its fields raises AttributeError."""
+
+    __slots__ = ("_intr", "_at", "_row")
     _fields: dict = {}
 
-    def __init__(self, intr=None):
-        """The geometry or physics of ``intr``; with no interaction (``FrictPhys()``), of a detached one,
-        whose attributes cannot be read (it is never real)."""
-        object.__setattr__(self, "_intr", Interaction() if intr is None else intr)
+    def _moved(self) -> int:
+        """The row of the interaction in the scene's storage now (RuntimeError if the interaction has ended)."""
+        intr = self._intr
+        self._row = row = intr._row_or_raise()
+        self._at = intr._at
+        return row
 
-    @classmethod
-    def _of(cls, intr: Interaction):
-        view = object.__new__(cls)
-        object.__setattr__(view, "_intr", intr)
-        return view
-
-    def __getattr__(self, name):  # only reached for names that are not fields
-        raise AttributeError(f"{type(self).__name__} has no attribute {name!r}")
-
-    def __setattr__(self, name, value):
-        if name not in type(self)._fields:
-            raise AttributeError(f"{type(self).__name__} has no attribute {name!r}")
-        object.__setattr__(self, name, value)
+    def _value_row(self) -> int:
+        """The row to read and write the values in."""
+        at = self._at
+        return self._row if at.C is at.scene.contacts else self._moved()
 
     def __dir__(self):
         return list(type(self)._fields)
@@ -136,28 +197,114 @@ class _ContactView:
         return f"<{type(self).__name__} instance at {hex(id(self))}>"
 
 
+class _Bound:
+    """A vector, quaternion or matrix field of a geometry or physics view ``_view``, bound to it as YADE's
+    (``i.phys.normalForce[0] = 1`` writes the contact; ``fn = i.phys.normalForce`` shows the values of later
+    steps): its array ``_a`` is the columns from ``_col`` in the view's row of the moment, looked up at each use
+    (``_ContactView``), so the value stays with its contact when compaction moves the rows. Results of
+    operations are plain values (``_new``); a copy or pickle too (``__reduce__``)."""
+
+    __slots__ = ()
+    __init__ = object.__init__  # made by the field getters only; construction without a Python frame
+    _plain: type  # the unbound class
+    _width: int
+
+    def _columns(self) -> np.ndarray:
+        view = self._view
+        row = view._value_row()
+        return view._at.C.con_f[row, self._col:self._col + self._width]
+
+    def _store(self, value) -> None:
+        """``self._a = value`` (what ``v *= 2`` does after writing in place): the values go to the contact."""
+        self._columns()[:] = np.reshape(value, -1)
+
+    _a = property(_columns, _store)
+
+    @classmethod
+    def _new(cls, a: np.ndarray):
+        return cls._plain._new(a)
+
+    def __reduce__(self):
+        return (self._plain, tuple(self._a.ravel().tolist()))
+
+
+class _BoundVector3(_Bound, Vector3):
+    __slots__ = ("_view", "_col")
+    _plain, _width = Vector3, 3
+
+    def _xyz(self) -> tuple[float, float, float]:
+        """The three components, read through the memoryview of the row (no NumPy object made)."""
+        view = self._view
+        at = view._at
+        if at.C is not at.scene.contacts:
+            view._moved()
+            at = view._at
+        f, k = at.f, view._row * at.fw + self._col
+        return f[k], f[k + 1], f[k + 2]
+
+    def squaredNorm(self):
+        x, y, z = self._xyz()
+        return x * x + y * y + z * z  # ((x² + y²) + z²), as Vector3.squaredNorm
+
+    def norm(self):  # the walks' hot path: _xyz inlined
+        view = self._view
+        at = view._at
+        if at.C is not at.scene.contacts:
+            view._moved()
+            at = view._at
+        f, k = at.f, view._row * at.fw + self._col
+        x, y, z = f[k], f[k + 1], f[k + 2]
+        return sqrt(x * x + y * y + z * z)
+
+    __abs__ = norm
+
+    def __getitem__(self, i):
+        return self._xyz()[_index(i, 3)]
+
+    def __iter__(self):
+        return iter(self._xyz())
+
+
+class _BoundQuaternion(_Bound, Quaternion):
+    __slots__ = ("_view", "_col")
+    _plain, _width = Quaternion, 4
+
+
+class _BoundMatrix3(_Bound, Matrix3):
+    __slots__ = ("_view", "_col")
+    _plain, _width = Matrix3, 9
+
+    _a = property(lambda self: self._columns().reshape(3, 3), _Bound._store)
+
+
+for _cls in (_BoundVector3, _BoundQuaternion, _BoundMatrix3):  # they print and report as the plain types
+    _cls.__name__ = _cls.__qualname__ = _cls._plain.__name__
+
+
 def _field_property(name: str, field: tuple) -> property:
     """The property reading and writing ``field`` = (column, width[, "bool" or "int"]) of the view's contact
-    row."""
+    row: a number, or a value bound to the view (:class:`_Bound`)."""
     col, width = field[:2]
     end = col + width
     scalar = {"bool": bool, "int": int}.get(field[2] if len(field) > 2 else "float", float)
-    kind = {1: scalar, 3: Vector3, 4: Quaternion, 9: Matrix3}[width]
+    bound = {3: _BoundVector3, 4: _BoundQuaternion, 9: _BoundMatrix3}.get(width)
 
-    def get(view):
-        intr = view._intr
-        row = intr._row()
-        if row < 0:
-            intr._row_or_raise()
-        a = intr._scene.contacts.con_f
-        if width == 1:
-            return scalar(a.item(row, col))
-        return kind._new(a[row, col:end] if width != 9 else a[row, col:end].reshape(3, 3))
+    if width == 1:
+        def get(view):
+            at = view._at
+            if at.C is not at.scene.contacts:  # _value_row, inlined
+                view._moved()
+                at = view._at
+            return scalar(at.f[view._row * at.fw + col])
+    else:
+        def get(view):
+            value = bound()
+            value._view, value._col = view, col
+            return value
 
     def put(view, value):
-        intr = view._intr
-        row = intr._row_or_raise()
-        a = intr._scene.contacts.con_f
+        row = view._value_row()
+        a = view._at.C.con_f
         if width == 1:
             a[row, col] = float(value)
         else:
@@ -193,9 +340,8 @@ def _incident_vel(self, i=None, avoidGranularRatcheting: bool = True) -> Vector3
     from granum.core.contacts import CONTACTS
     from granum.kernels.interaction import incident_velocity
 
-    intr = self._intr
-    row = intr._row_or_raise()
-    s = intr._scene
+    row = self._value_row()
+    s = self._at.scene
     return Vector3(*call(incident_velocity, s.arrays(), CONTACTS.to_record(s.contacts), row,
                          bool(avoidGranularRatcheting)))
 
@@ -204,7 +350,11 @@ GEOM_VIEWS["ScGeom"].incidentVel = _incident_vel
 PHYS_VIEWS = add_views(registry.PHYS_TYPES, {})
 
 
-_view_classes: dict = {"geom": [], "phys": []}
+_GEOM_CLASSES: list = []
+_PHYS_CLASSES: list = []
+_view_classes: dict = {"geom": _GEOM_CLASSES, "phys": _PHYS_CLASSES}
+_new_object = object.__new__
+_WALK_BLOCK = 2048  # interactions made per block of ids converted to Python ints (InteractionContainer.__iter__)
 
 
 def _view_class(role: str, code: int):
@@ -218,10 +368,15 @@ def _view_class(role: str, code: int):
     return classes[code]
 
 
+def _pack(id1, id2):
+    """Body ids (Python ints or int64 arrays; below 2³¹, or -1) as one integer: id1 in the high 32 bits."""
+    return (id1 << 32) | (id2 & 0xFFFFFFFF)
+
+
 class Interaction:
     """A pair of bodies: potential (bounds overlap) or real (``geom`` and ``phys`` exist)."""
 
-    __slots__ = ("_scene", "_id1", "_id2", "_hint", "_seen", "_dead")
+    __slots__ = ("_ids", "_hint", "_at")  # _ids: the two body ids in one int (_pack), one store fewer per walked item
 
     def __init__(self, scene=None, id1: int = -1, id2: int = -1):
         """A view of the pair (``id1``, ``id2``) of ``scene``; ``Interaction()`` is a detached one that is
@@ -230,32 +385,41 @@ class Interaction:
             from granum.core.scene import Scene
 
             scene = Scene()
-        self._scene = scene
-        self._id1, self._id2 = int(id1), int(id2)
-        self._hint, self._seen, self._dead = -1, None, -1
+        self._ids, self._hint, self._at = _pack(int(id1), int(id2)), -1, _Rows(scene)
 
     @classmethod
-    def _at(cls, scene, id1: int, id2: int, row: int, contacts=None, dead: int = -1) -> Interaction:
-        """The interaction of contact row ``row`` (bodies ``id1``, ``id2``, Python ints), known to hold them in
-        ``contacts`` with ``dead`` ended rows (see ``_row``); with no ``contacts``, checked at first use."""
-        intr = object.__new__(cls)
-        intr._scene, intr._id1, intr._id2, intr._hint, intr._seen, intr._dead = scene, id1, id2, row, contacts, dead
+    def _found(cls, scene, id1: int, id2: int, row: int) -> Interaction:
+        """The interaction of bodies ``id1``, ``id2`` (Python ints), whose contact row in the scene's storage
+        of now is ``row`` (-1: none)."""
+        intr = _new_object(cls)
+        intr._ids, intr._hint, intr._at = _pack(id1, id2), row, _rows_of(scene)
         return intr
+
+    @property
+    def _id1(self) -> int:
+        return self._ids >> 32
+
+    @property
+    def _id2(self) -> int:
+        return ((self._ids & 0xFFFFFFFF) ^ 0x80000000) - 0x80000000  # the low 32 bits, signed
+
+    @property
+    def _scene(self):
+        return self._at.scene
 
     def _row(self) -> int:
         """The contact row, or -1 when not real; O(1).
 
-        The row found last is kept with the contact arrays it was found in and their count of ended rows.
-        Contact rows move only inside compiled code, after which the runner stores new arrays in the scene,
-        and end only through ``end_contact``, which counts them: while both are unchanged the row is still
-        right. Otherwise the row found last is checked, and looked up again (O(log n)) if it moved."""
-        C = self._scene.contacts
-        if C is self._seen and C.ctr.item(C_DEAD) == self._dead:
+        The row found last is kept with the :class:`_Rows` of the storage it was found in: while those are
+        current, the row is right. Otherwise the row found last is checked, and looked up again (O(log n)) if it
+        moved."""
+        at = self._at
+        if at.C is at.scene.contacts and at.ctr[C_DEAD] == at.dead:
             return self._hint
-        row = self._hint
-        if not (row >= 0 and _holds(C, row, self._id1, self._id2)):
-            row = find_contact(self._scene, self._id1, self._id2)
-        self._hint, self._seen, self._dead = row, C, C.ctr.item(C_DEAD)
+        row, scene = self._hint, at.scene
+        if not (row >= 0 and _holds(scene.contacts, row, self._id1, self._id2)):
+            row = find_contact(scene, self._id1, self._id2)
+        self._hint, self._at = row, _rows_of(scene)
         return row
 
     def _row_or_raise(self) -> int:
@@ -267,12 +431,12 @@ class Interaction:
     @property
     def id1(self) -> int:
         row = self._row()
-        return int(self._scene.contacts.con_i[row, I_ID1]) if row >= 0 else self._id1
+        return self._at.i[row * self._at.iw + I_ID1] if row >= 0 else self._id1
 
     @property
     def id2(self) -> int:
         row = self._row()
-        return int(self._scene.contacts.con_i[row, I_ID2]) if row >= 0 else self._id2
+        return self._at.i[row * self._at.iw + I_ID2] if row >= 0 else self._id2
 
     @property
     def isReal(self) -> bool:
@@ -284,17 +448,43 @@ class Interaction:
 
     @property
     def geom(self):
-        row = self._row()
+        at, row = self._at, self._hint
+        if not (at.C is at.scene.contacts and at.ctr[C_DEAD] == at.dead):  # _row, inlined
+            row, at = self._row(), self._at
         if row < 0:
             return None
-        return _view_class("geom", self._scene.contacts.con_i.item(row, I_GEOM))._of(self)
+        cls = at.geom_class
+        if cls is None:  # contacts of several functors
+            try:
+                cls = _GEOM_CLASSES[at.geom[row]]
+            except IndexError:  # a functor registered since (a user's law)
+                cls = _view_class("geom", at.geom[row])
+        view = cls()
+        view._intr = self
+        view._at = at
+        view._row = row
+        return view
 
     @property
     def phys(self):
-        row = self._row()
+        # written out as geom is, not through a shared helper: one Python call more per walked item costs about
+        # a tenth of the walk (python_walk.py), which is still slower than YADE's
+        at, row = self._at, self._hint
+        if not (at.C is at.scene.contacts and at.ctr[C_DEAD] == at.dead):  # _row, inlined
+            row, at = self._row(), self._at
         if row < 0:
             return None
-        return _view_class("phys", self._scene.contacts.con_i.item(row, I_PHYS))._of(self)
+        cls = at.phys_class
+        if cls is None:  # contacts of several functors
+            try:
+                cls = _PHYS_CLASSES[at.phys[row]]
+            except IndexError:  # a functor registered since (a user's law)
+                cls = _view_class("phys", at.phys[row])
+        view = cls()
+        view._intr = self
+        view._at = at
+        view._row = row
+        return view
 
     @property
     def cellDist(self):
@@ -362,7 +552,7 @@ class InteractionContainer:
         row = find_contact(self._scene, a, b)
         if row < 0 and not self._potential(a, b):
             raise ValueError(f"No such interaction: ({a}, {b})")
-        return Interaction._at(self._scene, a, b, row)
+        return Interaction._found(self._scene, a, b, row)
 
     def has(self, id1: int, id2: int, onlyReal: bool = False) -> bool:
         a, b = self._ids((id1, id2))
@@ -374,13 +564,24 @@ class InteractionContainer:
         return np.nonzero(C.con_i[:n, I_FLAGS] & FLAG_ALIVE)[0]
 
     def __iter__(self):
+        """The real interactions, in row order. The rows and body ids are read at the start (the handles hold
+        them, and a handle finds its contact again if a step moves the rows meanwhile); they become Python
+        numbers a block at a time, which keeps the walk's working set in cache."""
         scene = self._scene
         C = scene.contacts
         rows = self._live_rows()
-        ids = C.con_i[rows, I_ID1:I_ID2 + 1].tolist()
-        dead = C.ctr.item(C_DEAD)
-        for (a, b), row in zip(ids, rows.tolist(), strict=True):
-            yield Interaction._at(scene, a, b, row, C, dead)
+        ids = _pack(*C.con_i[rows, I_ID1:I_ID2 + 1].astype(np.int64).T)
+        at, new = _rows_of(scene), _new_object
+        if at.phys_class is None:
+            at.find_classes(rows)
+        for start in range(0, rows.size, _WALK_BLOCK):
+            block = slice(start, start + _WALK_BLOCK)
+            for pair, row in zip(ids[block].tolist(), rows[block].tolist(), strict=True):
+                intr = new(Interaction)
+                intr._ids = pair
+                intr._hint = row
+                intr._at = at
+                yield intr
 
     def all(self, onlyReal: bool = False) -> list:
         out = list(self)
@@ -448,7 +649,7 @@ class InteractionContainer:
         rows = self._live_rows()
         ids = scene.contacts.con_i[rows, I_ID1:I_ID2 + 1]
         mine = np.nonzero((ids[:, 0] == id) | (ids[:, 1] == id))[0]
-        return [Interaction._at(scene, a, b, row)
+        return [Interaction._found(scene, a, b, row)
                 for (a, b), row in zip(ids[mine].tolist(), rows[mine].tolist(), strict=True)]
 
     def withBodyAll(self, id: int) -> list:
