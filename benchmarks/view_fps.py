@@ -6,7 +6,10 @@ camera turned for ``BENCH_SECONDS`` seconds, one turn per animation frame: the f
 frames drawn per second (vtk.js on Chromium's software WebGL when there is no GPU). On a machine shared
 with other jobs the fps depends on the load, so the CPU time all of Chromium's processes spent per frame
 is reported too (``chromium_cpu_ms``, with ``fps_one_core``, its inverse: the frame rate with one core
-for Chromium alone), and the load average at the time. Then the simulation
+for Chromium alone), and the load average at the time. Each size is measured twice in a row, with the
+page's occlusion culling (``granum-view.js``: on software WebGL the spheres hidden behind others are
+not drawn) off and on, with the spheres the last frame drew and the JavaScript time culling took per
+frame (``culling_js_ms``, part of ``chromium_cpu_ms``). Then the simulation
 runs ``BENCH_STEPS`` steps with the page open; ``hook_share`` is the time spent taking frames between
 compiled chunks and publishing them to the page, over the run's time (the view's server-side cost,
 target <= 5 %; ``seconds_with_view`` also includes Chromium drawing on the same cores).
@@ -112,21 +115,29 @@ def main() -> None:
         while time.monotonic() < end and f"({spheres} spheres)" not in driver.page_source:
             time.sleep(0.2)
         time.sleep(2)
-        cpu0 = chromium_cpu_seconds(driver)
-        drawn, elapsed = driver.execute_async_script(TURN, seconds)
-        cpu_per_frame = (chromium_cpu_seconds(driver) - cpu0) / max(drawn, 1)
-        fps = drawn / elapsed
+        for culling in ("off", "on"):   # the page's occlusion culling (software WebGL only), same load
+            driver.execute_script(f"window.granum_view.setCulling({'true' if culling == 'on' else 'false'});"
+                                  "window.granum_view.cullingMs = 0;")
+            time.sleep(1)
+            cpu0 = chromium_cpu_seconds(driver)
+            drawn, elapsed = driver.execute_async_script(TURN, seconds)
+            cpu_per_frame = (chromium_cpu_seconds(driver) - cpu0) / max(drawn, 1)
+            shown, cull_ms = driver.execute_script(
+                "return [window.granum_view.spheresDrawn, window.granum_view.cullingMs];")
+            print(f"BENCH name=view_fps spheres={spheres} culling={culling} fps={drawn / elapsed:.3g} "
+                  f"chromium_cpu_ms={cpu_per_frame * 1e3:.4g} fps_one_core={1 / cpu_per_frame:.3g} "
+                  f"culling_js_ms={cull_ms / max(drawn, 1):.3g} spheres_drawn_last={shown} "
+                  f"load_average={os.getloadavg()[0]:.3g}", flush=True)
         session.hook_seconds = session.publish_seconds = 0.0
         taken = session.frames_taken
         t0 = time.perf_counter()
         O.run(steps, True)
         viewed = time.perf_counter() - t0
         share = (session.hook_seconds + session.publish_seconds) / viewed
-        print(f"BENCH name=view_fps spheres={spheres} fps={fps:.3g} chromium_cpu_ms={cpu_per_frame * 1e3:.4g} "
-              f"fps_one_core={1 / cpu_per_frame:.3g} load_average={os.getloadavg()[0]:.3g} steps={steps} "
-              f"seconds_without_view={bare:.4g} "
+        print(f"BENCH name=view_server spheres={spheres} steps={steps} seconds_without_view={bare:.4g} "
               f"seconds_with_view={viewed:.4g} server_share={share:.2%} hook_s={session.hook_seconds:.3g} "
-              f"publish_s={session.publish_seconds:.3g} frames={session.frames_taken - taken}", flush=True)
+              f"publish_s={session.publish_seconds:.3g} frames={session.frames_taken - taken} "
+              f"load_average={os.getloadavg()[0]:.3g}", flush=True)
         view.close_view()
     driver.quit()
 

@@ -355,8 +355,10 @@ def test_gui_names_are_accepted_headless(yade):
     yade.Gl1_Sphere.stripes = True
     v = yade.qt.View()
     v.center()
-    r = yade.qt.Renderer()
+    r = yade.qt.Renderer()   # YADE's one renderer: what is set here stays for later tests, so it is set back
     r.shape = False
+    r.shape = True
+    assert r.shape is True
     assert yade.Gl1_Sphere.stripes is True
 
 

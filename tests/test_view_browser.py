@@ -47,13 +47,16 @@ def served(tmp_path_factory):
     session = view.open_view(open_browser=False)
     try:
         cli.run_script(str(TUTORIAL), [])
+    except BaseException:
+        os.chdir(saved[3])
+        raise
     finally:
         sys.argv[:], sys.path[:] = saved[0], saved[1]
         sys.modules["__main__"] = saved[2]
-        os.chdir(saved[3])
-    yield session, O
+    yield session, O   # still in the temporary folder: the tests' runs write the tutorial's files there too
     O.pause()
     O.wait()
+    os.chdir(saved[3])
     view.close_view()
     view.forbid()
     O.reset()
@@ -125,36 +128,39 @@ def test_the_page_needs_the_token(served):
     assert urllib.request.urlopen(session.url, timeout=10).status == 200
 
 
-def test_spheres_drawn_as_the_snapshot_draws_them(served, browser):
-    """The page's camera is the qt.View()'s: the pixels the page covers with bodies are those granum's own
-    software renderer (saveSnapshot) covers, for the same camera and picture size. YADE's lights come from
-    the side, leaving the far sides of spheres near the background's grey: for this comparison of shapes
-    one white light shines from the eye (a light setting the page honours)."""
-    from granum.yade import qt
+def _page_and_snapshot(browser, session, O, name):
+    """The page's canvas and granum's snapshot of the same scene, camera and picture size, both lit by one
+    white light at the eye (YADE's side lights leave the far sides of spheres near the background's grey;
+    for comparing shapes the light shines from the eye, a light setting the page honours). Returns the two
+    (h, w) masks of the pixels covered by bodies."""
+    from PIL import Image
+
     from granum.yade.snapshot import RENDERER, View, render
 
-    session, O = served
-    _canvas_picture(browser, "tutorial02-yade-lights")
     saved = RENDERER.lightPos, RENDERER.lightColor, RENDERER.light2
     RENDERER.lightPos, RENDERER.lightColor, RENDERER.light2 = session.camera()["position"], (1, 1, 1), False
     try:
         _click(browser, "yade_camera")
         time.sleep(3)
-        page = _canvas_picture(browser, "tutorial02-start")
+        page = _canvas_picture(browser, name)
     finally:
         RENDERER.lightPos, RENDERER.lightColor, RENDERER.light2 = saved
-    assert not qt._views   # tutorial 02 opens no qt.View(): the page frames the scene as a new one does
     v = View(lambda: O._scene)
     v.screenSize = (page.shape[1], page.shape[0])
     soft = render(O._scene, v, RENDERER)
-    from PIL import Image
-
-    Image.fromarray(soft).save(ARTIFACTS / "tutorial02-start-snapshot.png")
+    Image.fromarray(soft).save(ARTIFACTS / f"{name}-snapshot.png")
     bg = np.asarray(RENDERER.bgColor) * 255
 
     def covered(img):
         return np.abs(img.astype(float) - bg).max(axis=2) > 25
 
+    return covered(page), covered(soft)
+
+
+def _assert_same_coverage(a, b):
+    """The pixels covered in the page (``a``) and in the snapshot (``b``) agree: the renderers shade rims and
+    draw lines differently (2 px wide in the page, hairlines in the snapshot), so each covered pixel is
+    looked for within 3 px in the other picture."""
     def grown(mask, px=3):
         out = mask.copy()
         for dy in range(-px, px + 1):
@@ -162,15 +168,90 @@ def test_spheres_drawn_as_the_snapshot_draws_them(served, browser):
                 out |= np.roll(np.roll(mask, dy, axis=0), dx, axis=1)
         return out
 
-    a, b = covered(page), covered(soft)
-    # the renderers shade rims and draw lines differently (2 px wide in the page, hairlines in the
-    # snapshot), so each covered pixel is looked for within 3 px in the other picture
     page_in_soft = (a & grown(b)).sum() / a.sum()
     soft_in_page = (b & grown(a)).sum() / b.sum()
     print(f"covered: page {a.mean():.3f}, snapshot {b.mean():.3f}; "
           f"page in snapshot {page_in_soft:.3f}, snapshot in page {soft_in_page:.3f}")
-    assert b.mean() > 0.2        # the cloud of tutorial 02 fills much of the view
     assert page_in_soft > 0.97 and soft_in_page > 0.97
+
+
+def test_spheres_drawn_as_the_snapshot_draws_them(served, browser):
+    """The page's camera is the qt.View()'s: the pixels the page covers with bodies are those granum's own
+    software renderer (saveSnapshot) covers, for the same camera and picture size."""
+    from granum.yade import qt
+
+    session, O = served
+    _canvas_picture(browser, "tutorial02-yade-lights")
+    a, b = _page_and_snapshot(browser, session, O, "tutorial02-start")
+    assert not qt._views   # tutorial 02 opens no qt.View(): the page frames the scene as a new one does
+    assert b.mean() > 0.2        # the cloud of tutorial 02 fills much of the view
+    _assert_same_coverage(a, b)
+
+
+def test_a_clip_plane_hides_the_bodies_behind_it(served, browser):
+    """qt.Renderer().clipPlaneSe3/clipPlaneActive: a plane through the cloud's middle, its normal along +x
+    (the view's right), hides the bodies whose centre is on its left, in the page as in the snapshot."""
+    from granum.mathtypes import Quaternion
+    from granum.yade.snapshot import RENDERER
+
+    session, O = served
+    mid = np.median(np.asarray([b.state.pos for b in O.bodies]), axis=0)
+    whole = _page_and_snapshot(browser, session, O, "tutorial02-unclipped")[0]
+    saved = RENDERER.clipPlaneSe3, RENDERER.clipPlaneActive
+    RENDERER.clipPlaneSe3 = [(tuple(mid), Quaternion((0, 1, 0), np.pi / 2))] + saved[0][1:]
+    RENDERER.clipPlaneActive = [True, False, False]
+    try:
+        a, b = _page_and_snapshot(browser, session, O, "tutorial02-clipped")
+    finally:
+        RENDERER.clipPlaneSe3, RENDERER.clipPlaneActive = saved
+    _assert_same_coverage(a, b)
+    w = a.shape[1]
+    cut = int(np.nonzero(whole.any(axis=0))[0].mean())   # about the cloud's middle column
+    print(f"covered left of the middle: {whole[:, :cut].sum()} px unclipped, {a[:, :cut].sum()} clipped; "
+          f"right: {whole[:, cut:].sum()} and {a[:, cut:].sum()}")
+    # left: only the rims of spheres centred right of the plane and the box's lines remain
+    assert a[:, :cut - w // 20].sum() < 0.1 * whole[:, :cut - w // 20].sum()
+    assert a[:, cut + w // 20:].sum() > 0.9 * whole[:, cut + w // 20:].sum()
+
+
+def test_software_webgl_draws_without_multisampling(served, browser):
+    """Chromium without a GPU draws WebGL with SwiftShader: the view's context is made without multisampling
+    (a quarter of a frame's CPU time there; granum-view.js), and it is the context vtk.js draws on."""
+    renderer, attributes = browser.execute_script("""
+        const probe = document.createElement('canvas').getContext('webgl2');
+        const info = probe.getExtension('WEBGL_debug_renderer_info');
+        const gl = document.querySelector('canvas').getContext('webgl2');
+        return [probe.getParameter(info.UNMASKED_RENDERER_WEBGL), gl.getContextAttributes()];""")
+    assert "SwiftShader" in renderer
+    assert attributes["antialias"] is False
+    assert attributes["depth"] is True and attributes["alpha"] is True   # vtk.js's own attributes kept
+
+
+def test_occlusion_culling_leaves_the_picture_unchanged(served, browser):
+    """On software WebGL the page draws only the spheres that can be seen (granum-view.js): the hidden ones
+    are left out, and the picture is the same, pixel for pixel, as with every sphere drawn, from the YADE
+    camera and from a camera turned to look through the cloud's depth."""
+    session, O = served
+    n = len(session.frame().sphere_ids)
+    _click(browser, "yade_camera")
+    time.sleep(2)
+    turn = """const v = trame.refs.view, cam = v.getCamera(), f = cam.focalPoint;
+        const r = Math.hypot(...[0, 1, 2].map((i) => cam.position[i] - f[i]));
+        v.setCamera({position: [f[0] + 0.3 * r, f[1] + 0.1 * r, f[2] - 0.95 * r]});"""
+    for name, script in (("yade-camera", ""), ("turned", turn)):
+        browser.execute_script(script)
+        pictures, drawn = {}, {}
+        for culling in (True, False):
+            browser.execute_script(f"window.granum_view.setCulling({str(culling).lower()});")
+            time.sleep(2)
+            drawn[culling] = browser.execute_script("return window.granum_view.spheresDrawn")
+            pictures[culling] = _canvas_picture(browser, f"tutorial02-culling-{name}-{'on' if culling else 'off'}")
+        browser.execute_script("window.granum_view.setCulling(true);")
+        different = np.abs(pictures[True].astype(int) - pictures[False]).max(axis=2) > 0
+        print(f"{name}: {drawn[True]} of {n} spheres drawn with culling; {different.sum()} pixels differ")
+        assert drawn[False] is None and 0 < drawn[True] < n
+        assert different.sum() == 0
+    _click(browser, "yade_camera")
 
 
 def test_play_advances_and_pause_stops(served, browser):
@@ -286,6 +367,7 @@ def test_live_plot_gains_points(served, browser):
     field = browser.find_element(By.ID, "run_n")
     field.clear()
     field.send_keys("400")
+    _wait(lambda: not O.running, what="an earlier run to stop")  # else O.iter moves after it is read
     start = O.iter
     _click(browser, "run")
     _wait(lambda: O.iter >= start + 400 and not O.running, what="run N to finish")

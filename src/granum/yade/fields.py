@@ -169,6 +169,17 @@ def ids_of_kind(scene, kind: ShapeKind, mask: int = 0) -> np.ndarray:
     return np.nonzero(keep)[0]
 
 
+def clipped(points: np.ndarray, planes: np.ndarray) -> np.ndarray:
+    """(M,) mask of the (M, 3) ``points`` behind any of the (P, 2, 3) clipping ``planes`` (point [m], unit
+    normal): a point is behind a plane when its offset from the plane's point has a negative component
+    along the normal (YADE's 3D view hides a body whose centre is behind an active clipping plane)."""
+    points = np.asarray(points, float).reshape(-1, 3)
+    hidden = np.zeros(len(points), bool)
+    for point, normal in np.asarray(planes, float).reshape(-1, 2, 3):
+        hidden |= (points - point) @ normal < 0
+    return hidden
+
+
 def sphere_radii(scene, ids: np.ndarray) -> np.ndarray:
     """(M,) radii of the spheres ``ids`` [m]."""
     return scene.shapes[ShapeKind.SPHERE].radius[scene.bodies.shape_row[ids]]

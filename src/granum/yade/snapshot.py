@@ -32,7 +32,7 @@ from granum.core.shapes import ShapeKind, shape_type
 from granum.engines.base import PeriodicEngine
 from granum.io.atomic import atomic_path
 from granum.io.raster import Canvas
-from granum.mathtypes import Vector2i, Vector3
+from granum.mathtypes import Quaternion, Vector2i, Vector3
 from granum.yade import fields
 
 _FOV = np.pi / 4  # vertical field of view of a perspective view (QGLViewer's default)
@@ -46,13 +46,49 @@ def _vec3(owner, value):
     return Vector3(*(float(x) for x in value))
 
 
+#: clipping planes of the 3D view (YADE's ``OpenGLRenderer::numClipPlanes``)
+NUM_CLIP_PLANES = 3
+
+
+def _clip_se3(owner, value) -> list:
+    """``clipPlaneSe3``: up to 3 (position [m], orientation) pairs, as YADE's list of ``Se3r``."""
+    planes = list(value)
+    if len(planes) > NUM_CLIP_PLANES:
+        raise ValueError(f"Renderer.clipPlaneSe3 holds at most {NUM_CLIP_PLANES} planes, got {len(planes)}")
+    out = []
+    for k, plane in enumerate(planes):
+        try:
+            pos, ori = plane
+            out.append((_vec3(owner, pos), ori if isinstance(ori, Quaternion) else Quaternion(*ori)))
+        except (TypeError, ValueError) as e:
+            raise ValueError(f"Renderer.clipPlaneSe3[{k}] must be (position, Quaternion), got {plane!r}") from e
+    return out
+
+
+def _clip_active(owner, value) -> list:
+    flags = [bool(x) for x in value]
+    if len(flags) > NUM_CLIP_PLANES:
+        raise ValueError(f"Renderer.clipPlaneActive holds at most {NUM_CLIP_PLANES} flags, got {len(flags)}")
+    return flags
+
+
 class Renderer(Attributed):
     """Display options of the 3D view (YADE's ``OpenGLRenderer``, reached by ``qt.Renderer()``).
 
     Honoured by :func:`render`: ``shape`` (False hides the bodies), ``wire`` (all bodies as
     outlines), ``bgColor``, ``mask`` (draw bodies with ``groupMask & mask != 0``), ``intrPhys``,
-    ``intrWire``, ``cellColor``. The other attributes are accepted for compatibility.
+    ``intrWire``, ``cellColor``, ``clipPlaneSe3`` with ``clipPlaneActive`` (as in YADE, a body is drawn
+    whole or not at all: hidden when its centre is behind an active plane). The other attributes are
+    accepted for compatibility.
     """
+
+    def clip_planes(self) -> np.ndarray:
+        """The active clipping planes as a (P, 2, 3) array of (point [m], unit normal): the normal is the
+        plane's orientation applied to +z, and the side it points to is drawn. A plane without a flag (the
+        lists may be shorter than 3, as YADE fills them) is off."""
+        planes = [(np.asarray(pos, float), np.asarray(ori * Vector3(0, 0, 1), float))
+                  for (pos, ori), on in zip(self.clipPlaneSe3, self.clipPlaneActive, strict=False) if on]
+        return np.asarray(planes, float).reshape(-1, 2, 3)
 
     _attrs = {
         "dispScale": Attr(Vector3(1, 1, 1), "Displacement scaling (accepted, not used)", _vec3),
@@ -77,8 +113,10 @@ class Renderer(Attributed):
         "ghosts": Attr(True, "Draw periodic ghosts (accepted, not used)", to_bool),
         "mask": Attr(-1, "Draw only bodies with groupMask & mask != 0", to_int("mask")),
         "selId": Attr(-1, "Selected body (accepted, not used)", to_int("selId")),
-        "clipPlaneSe3": Attr([], "Clipping planes (accepted, not used)"),
-        "clipPlaneActive": Attr([False, False, False], "Clipping planes on (accepted, not used)"),
+        "clipPlaneSe3": Attr([(Vector3(0, 0, 0), Quaternion())] * NUM_CLIP_PLANES,
+                             "Clipping planes: (a point [m], an orientation turning +z into the plane's normal); "
+                             "bodies whose centre lies behind an active plane are not drawn", _clip_se3),
+        "clipPlaneActive": Attr([False] * NUM_CLIP_PLANES, "Which clipping planes are on", _clip_active),
         "extraDrawers": Attr([], "Extra drawers (accepted, not used)"),
         "intrAllWire": Attr(False, "Draw potential interactions too (accepted, not used)", to_bool),
     }
@@ -326,9 +364,12 @@ def render(scene, view: View, renderer: Renderer = RENDERER) -> np.ndarray:
     if renderer.shape:
         mask = renderer.mask
 
+        planes = renderer.clip_planes()
+
         def of_kind(kind):
             ids = fields.ids_of_kind(scene, kind)
-            return ids if mask == -1 else ids[(b.mask[ids] & mask) != 0]
+            ids = ids if mask == -1 else ids[(b.mask[ids] & mask) != 0]
+            return ids[~fields.clipped(b.pos[ids] + fields.wrap_shift(scene, ids), planes)]
 
         _draw_spheres(canvas, scene, view, of_kind(ShapeKind.SPHERE), renderer.wire)
         for kind in scene.shapes:

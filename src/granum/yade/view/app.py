@@ -6,7 +6,8 @@ state (``{"bvals": base64, "dtype": ...}`` typed arrays, which vtk.js reads with
 
 * spheres as impostors: one screen-facing triangle per sphere, ray-cast per pixel onto the sphere of
   the centre and radius given (vtk.js's sphere mapper, enabled by ``client/granum-view.js``), coloured by its
-  RGB: three vertices per sphere, so software WebGL (no GPU) keeps 100,000 spheres moving;
+  RGB: three vertices per sphere, so software WebGL (no GPU) keeps 100,000 spheres moving; there the
+  page leaves out the spheres hidden behind others before each frame (same picture);
 * facets, boxes and walls as one triangle mesh coloured per triangle; the periodic cell, bounds and
   contact force chains as one set of coloured lines.
 
@@ -133,7 +134,11 @@ def plugin_element(tag: str, **props):
       drawn as spheres (vtk.js's sphere mapper, one ray-cast triangle per sphere) of radius the point data
       array named ``scale_array``;
     * ``granum-lights`` (``lights``), inside a ``VtkView``: the scene lights (``frame_state``'s ``lights``)
-      replacing vtk.js's headlight."""
+      replacing vtk.js's headlight.
+
+    When WebGL is drawn by the CPU (no GPU), the plugin also makes the page's WebGL contexts without
+    multisampling, a large share of a frame's time there, and draws only the spheres that can be seen
+    (occlusion culling in the page: the same picture, a fraction of the fragments to shade)."""
     from trame_client.widgets.core import AbstractElement
 
     class PluginElement(AbstractElement):

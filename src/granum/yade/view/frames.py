@@ -59,6 +59,9 @@ class Options(NamedTuple):
     cellColor: tuple = (1.0, 1.0, 0.0)
     #: the lights on, ((position [m], RGB in [0, 1]), ...): YADE's light1/lightPos/lightColor and light2/...
     lights: tuple = ()
+    #: the active clipping planes, ((point [m], unit normal), ...): bodies whose drawn centre is behind one
+    #: are left out (``Renderer.clip_planes``, YADE's clipPlaneSe3/clipPlaneActive)
+    clip_planes: tuple = ()
 
 
 def _rgb(colors: np.ndarray) -> np.ndarray:
@@ -143,6 +146,9 @@ def take_frame(scene, options: Options | None = None, field: str = "color") -> F
     keep = b.alive[:n].copy()
     if options.mask != -1:
         keep &= (b.mask[:n] & options.mask) != 0
+    if options.clip_planes:
+        live = np.nonzero(keep)[0]
+        keep[live[fields.clipped(_displaced(scene, live, scale), options.clip_planes)]] = False
     drawn = np.nonzero(keep)[0]
     if field == "color":
         value_range = (0.0, 0.0)

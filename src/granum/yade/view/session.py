@@ -28,7 +28,7 @@ MIN_INTERVAL, MAX_INTERVAL = 0.1, 5.0
 
 #: renderer options the browser view draws; any other option set away from its default is refused by name
 DRAWN = ("shape", "wire", "bound", "intrPhys", "intrWire", "mask", "ghosts", "dispScale", "cellColor", "bgColor",
-         "light1", "lightPos", "lightColor", "light2", "light2Pos", "light2Color")
+         "light1", "lightPos", "lightColor", "light2", "light2Pos", "light2Color", "clipPlaneSe3", "clipPlaneActive")
 
 
 class Session:
@@ -73,7 +73,8 @@ class Session:
         lights = ((r.light1, r.lightPos, r.lightColor), (r.light2, r.light2Pos, r.light2Color))
         return frames.Options(shape=r.shape, wire=r.wire, bound=r.bound, intrPhys=r.intrPhys, intrWire=r.intrWire,
                               mask=r.mask, ghosts=r.ghosts, dispScale=tuple(r.dispScale), cellColor=tuple(r.cellColor),
-                              lights=tuple((tuple(pos), tuple(rgb)) for on, pos, rgb in lights if on))
+                              lights=tuple((tuple(pos), tuple(rgb)) for on, pos, rgb in lights if on),
+                              clip_planes=tuple(tuple(map(tuple, plane)) for plane in r.clip_planes().tolist()))
 
     def frame(self) -> frames.Frame:
         """A frame of the current scene, taken now."""
