@@ -69,6 +69,13 @@ from granum.engines.pipeline import (
 )
 from granum.engines.pyrunner import PyRunner
 from granum.engines.runner import SimulationError
+from granum.engines.simple_shear import (
+    KinemCNDEngine,
+    KinemCNLEngine,
+    KinemCNSEngine,
+    KinemCTDEngine,
+    KinemSimpleShearBox,
+)
 from granum.engines.strainer import UniaxialStrainer
 from granum.engines.timestepper import GlobalStiffnessTimeStepper, TimeStepper
 from granum.engines.triaxial import TriaxialStressController
@@ -104,7 +111,7 @@ from granum.yade.interactions import PHYS_VIEWS as _PHYSS
 from granum.yade.interactions import Interaction
 from granum.yade.materials import CLASSES as _MATERIALS
 from granum.yade.omega import O, Omega
-from granum.yade.preprocessors import FileGenerator, TriaxialTest
+from granum.yade.preprocessors import FileGenerator, SimpleShear, TriaxialTest
 from granum.yade.recorders import Recorder, TriaxialStateRecorder
 from granum.yade.snapshot import SnapshotEngine
 from granum.yade.utils import *  # noqa: F403
@@ -148,7 +155,9 @@ _namespace.update(
     TriaxialStressController=TriaxialStressController, Recorder=Recorder,
     TriaxialStateRecorder=TriaxialStateRecorder, TriaxialCompressionEngine=TriaxialCompressionEngine,
     ThreeDTriaxialEngine=ThreeDTriaxialEngine, UniaxialStrainer=UniaxialStrainer, FileGenerator=FileGenerator,
-    TriaxialTest=TriaxialTest,
+    TriaxialTest=TriaxialTest, SimpleShear=SimpleShear, KinemSimpleShearBox=KinemSimpleShearBox,
+    KinemCTDEngine=KinemCTDEngine, KinemCNDEngine=KinemCNDEngine, KinemCNLEngine=KinemCNLEngine,
+    KinemCNSEngine=KinemCNSEngine,
     ForceEngine=ForceEngine, TranslationEngine=TranslationEngine, RotationEngine=RotationEngine,
     KinematicEngine=KinematicEngine, HelixEngine=HelixEngine, CombinedKinematicEngine=CombinedKinematicEngine,
     DomainLimiter=DomainLimiter, MatchMaker=MatchMaker, SpheresFactory=SpheresFactory,
