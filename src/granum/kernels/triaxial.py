@@ -12,10 +12,13 @@ The walls are boxes (``utils.aabbWalls``) in the order left, right (x), bottom, 
   ε_a = ln(size_a / size0_a) (size0: the sizes at the first step) and ``volumetricStrain`` = Σ ε_a;
 * every ``stiffnessUpdateInterval`` steps: each wall's stiffness k_w = Σ kn over its contacts;
 * ``internalCompaction``: the walls stay still; every ``radiusControlInterval`` steps the spheres'
-  radii are multiplied by m = 1 + (M - 1)(σ_g - σ_mean)/σ_g (masses by m³, inertias by m⁵; the
-  collider's budgets shrink by the growth, :func:`spend_budgets`), σ_g the mean of the three goals
-  and M ``maxMultiplier``; once |σ_mean| exceeds |σ_g|, M becomes ``finalMaxMultiplier`` for good
-  (YADE 2023.02a's rule, measured);
+  radii are multiplied by m = 1 + (M - 1)(σ_g - σ_mean)/σ_g, σ_g the mean of the three goals and M
+  ``maxMultiplier``; once |σ_mean| exceeds |σ_g|, M becomes ``finalMaxMultiplier`` for good (YADE 2023.02a's
+  rule, measured). Masses follow by m³, inertias by m⁵; the collider's budgets shrink by the growth
+  (:func:`spend_budgets`); kn and ks of every existing contact, whatever its bodies, are multiplied by m
+  (:func:`scale_stiffnesses`: kn ∝ R in Ip2_FrictMat_FrictMat_FrictPhys; YADE 2023.02a scales them all,
+  measured on the triax tutorial and on two blocked spheres in contact); the porosity reported at a growth step
+  is the one before the growth (YADE's);
 * otherwise each active wall moves along n_w by T_w per step (set as its velocity T_w n_w / dt,
   which NewtonIntegrator integrates). Stress axis (bit a of ``stressMask``):
   T_w = (1 - stressDamping)·clamp(ΔF / k_w, ±c_a) + 0.8·T_w(previous step), with
@@ -37,7 +40,7 @@ import numpy as np
 from granum._jit import jit
 from granum.core.arrays import S_DT, S_VERLET, SI_ITER, SI_NBODIES
 from granum.core.bodies import DOF_ALL
-from granum.core.contacts import C_CSR_DIRTY, C_PAIRS, F_KN
+from granum.core.contacts import C_CONTACTS, C_CSR_DIRTY, C_PAIRS, F_KN, F_KS, FLAG_ALIVE, FLAG_NEW, I_FLAGS
 from granum.core.shapes import ShapeKind
 from granum.kernels.interaction import budget_f32, build_csr
 
@@ -151,6 +154,16 @@ def grow_spheres(S, m):
 
 
 @jit
+def scale_stiffnesses(C, m):
+    """Multiply kn and ks of the live contacts whose physics exists by the radius multiplier ``m`` (contacts
+    still flagged new get theirs from the grown radii at the next step)."""
+    for c in range(C.ctr[C_CONTACTS]):
+        if C.con_i[c, I_FLAGS] & FLAG_ALIVE and not C.con_i[c, I_FLAGS] & FLAG_NEW:
+            C.con_f[c, F_KN] *= m
+            C.con_f[c, F_KS] *= m
+
+
+@jit
 def spend_budgets(S, C, grown):
     """Radii grew by up to ``grown`` [m]: a gap between two bodies shrinks by up to twice that without any
     motion. Take it from the Verlet distance of the bounds (the collider runs once a body has moved farther
@@ -212,8 +225,10 @@ def triaxial_control(S, C, P, internal):
             out[T_PREV_MULT] = m
             out[T_PREV_STRESS] = out[T_MEAN]
             spend_budgets(S, C, grow_spheres(S, m))
+            scale_stiffnesses(C, m)
+            # the porosity of this step stays the one before the growth (YADE 2023.02a reports it so, measured:
+            # tests/reference/yade/triax_tutorial_start.py); the grown volume counts from the next step
             out[T_SPHERES_VOLUME] = spheres_volume(S)
-            box_sizes(S, walls, P.thickness, out)
     else:
         for a in range(3):
             if not P.stress_mask >> a & 1:
