@@ -92,14 +92,16 @@ def test_region_like_yade(granum_run):
     assert c["axial_inner_half"] == pytest.approx(ref["circle"]["axial_inner_half"], abs=0.05)
     d = got["disk"]
     assert d["x"] == [5.0, 5.0] and d["max_axis_distance"] <= 0.048 and d["min_gap"] >= 0
-    assert d["n"] == pytest.approx(ref["disk"]["n"], rel=0.05)      # random sequential filling of the disk
+    # random sequential filling, unseeded in both: YADE 292-308 (20 runs), granum 285-309 (20 runs)
+    assert d["n"] == pytest.approx(ref["disk"]["n"], rel=0.08)
     assert d["massFlowRate"] == 0 and d["n_after"] == d["n"]
     assert d["goalMass"] == pytest.approx(d["n"] * 2000 * 4 / 3 * math.pi * 0.002 ** 3, rel=1e-12)
     b = got["box"]
     assert all(lo >= c0 - e for lo, c0, e in zip(b["lo"], (-5, 0, 0), (0.05, 0.04, 0.03), strict=True))
     assert all(hi <= c0 + e for hi, c0, e in zip(b["hi"], (-5, 0, 0), (0.05, 0.04, 0.03), strict=True))
     assert b["min_gap"] >= 0 and b["massFlowRate"] == 1e6 and b["n_after"] >= b["n"]
-    assert b["n"] == pytest.approx(ref["box"]["n"], rel=0.1)
+    # unseeded as well: YADE 282-330 (30 runs, sd 12), granum 286-332 (30 runs); CI drew 337 once
+    assert b["n"] == pytest.approx(ref["box"]["n"], rel=0.2)
 
 
 def test_obstacles_like_yade(granum_run):
