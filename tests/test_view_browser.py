@@ -361,12 +361,22 @@ def test_live_plot_gains_points(served, browser):
         return int(m.group(1)) if m else -1
 
     before = points()
-    _click(browser, "run_n")   # focus the field, then ask for 400 steps
     from selenium.webdriver.common.by import By
 
     field = browser.find_element(By.ID, "run_n")
-    field.clear()
-    field.send_keys("400")
+
+    def shows_400():
+        """The field holds 400, typed at least one poll ago: under load the state's round trip to the server
+        could land between the clearing and the keys (CI once ran 23,401 steps, until the tutorial's
+        checkUnbalanced paused it), so it is typed again until it stays."""
+        if field.get_property("value") == "400":
+            return True
+        field.clear()
+        field.send_keys("400")
+        time.sleep(0.5)
+        return False
+
+    _wait(shows_400, timeout=30, what="the run field to hold 400")
     _wait(lambda: not O.running, what="an earlier run to stop")  # else O.iter moves after it is read
     start = O.iter
     _click(browser, "run")
