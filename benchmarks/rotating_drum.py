@@ -6,7 +6,7 @@
 # read the same mesh), turned by a RotationEngine about its axis (1 rad/s, rotateAroundZero).
 # FrictMat (E=1e7, nu=0.3, 30 deg, 2600 kg/m^3), Cundall-Strack, NewtonIntegrator(damping=0.2, gravity -z),
 # O.dt = 0.5*PWaveTimeStep(). R is chosen so that the half-lattice holds about BENCH_N spheres (at 5,000:
-# R = 0.17 m); they are in contact from the first step and the drum drags them round.
+# R = 0.32 m, at 10,000: 0.45 m); they are in contact from the first step and the drum drags them round.
 # BENCH_EXTRA=1 also runs the engines of issue #21 that make sense here: the drum's rotation combined with a
 # HarmonicMotionEngine shaking it vertically (RotationEngine + HarmonicMotionEngine), and a LinearDragEngine
 # (nu=0.05) on the spheres.
