@@ -9,7 +9,10 @@ is reported too (``chromium_cpu_ms``, with ``fps_one_core``, its inverse: the fr
 for Chromium alone), and the load average at the time. Each size is measured twice in a row, with the
 page's occlusion culling (``granum-view.js``: on software WebGL the spheres hidden behind others are
 not drawn) off and on, with the spheres the last frame drew and the JavaScript time culling took per
-frame (``culling_js_ms``, part of ``chromium_cpu_ms``). Then the simulation
+frame (``culling_js_ms``, part of ``chromium_cpu_ms``). ``frames_culled`` (culling on) counts the frames
+the page drew anew, out of the animation frames counted: equal when each turn is drawn (with Chromium's
+software compositor, ``--disable-gpu-compositing``, animation frames ran at twice the drawing rate, so
+the fps would read twice too high). Then the simulation
 runs ``BENCH_STEPS`` steps with the page open; ``hook_share`` is the time spent taking frames between
 compiled chunks and publishing them to the page, over the run's time (the view's server-side cost,
 target <= 5 %; ``seconds_with_view`` also includes Chromium drawing on the same cores).
@@ -117,16 +120,17 @@ def main() -> None:
         time.sleep(2)
         for culling in ("off", "on"):   # the page's occlusion culling (software WebGL only), same load
             driver.execute_script(f"window.granum_view.setCulling({'true' if culling == 'on' else 'false'});"
-                                  "window.granum_view.cullingMs = 0;")
+                                  "window.granum_view.cullingMs = 0; window.granum_view.framesCulled = 0;")
             time.sleep(1)
             cpu0 = chromium_cpu_seconds(driver)
             drawn, elapsed = driver.execute_async_script(TURN, seconds)
             cpu_per_frame = (chromium_cpu_seconds(driver) - cpu0) / max(drawn, 1)
-            shown, cull_ms = driver.execute_script(
-                "return [window.granum_view.spheresDrawn, window.granum_view.cullingMs];")
+            shown, cull_ms, culled = driver.execute_script(
+                "const v = window.granum_view; return [v.spheresDrawn, v.cullingMs, v.framesCulled];")
             print(f"BENCH name=view_fps spheres={spheres} culling={culling} fps={drawn / elapsed:.3g} "
                   f"chromium_cpu_ms={cpu_per_frame * 1e3:.4g} fps_one_core={1 / cpu_per_frame:.3g} "
-                  f"culling_js_ms={cull_ms / max(drawn, 1):.3g} spheres_drawn_last={shown} "
+                  f"culling_js_ms={cull_ms / max(drawn, 1):.3g} frames_culled={culled}/{drawn} "
+                  f"spheres_drawn_last={shown} "
                   f"load_average={os.getloadavg()[0]:.3g}", flush=True)
         session.hook_seconds = session.publish_seconds = 0.0
         taken = session.frames_taken

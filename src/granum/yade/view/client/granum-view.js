@@ -340,6 +340,7 @@
       points.setData(xyz, 3);   // last: its time stamps the culled input (getMTime)
       stats.spheresDrawn = kept.length;
       stats.cullingMs += performance.now() - t0;
+      stats.framesCulled += 1;
       return culled;
     };
   }
@@ -431,10 +432,12 @@
   window.granum_view = {
     // occlusion culling on (software WebGL only); setCulling(false) draws every sphere again (to compare
     // pictures); spheresDrawn: the spheres drawn in the last frame culled (null when not culling);
-    // cullingMs: the time spent culling
+    // cullingMs: the time spent culling; framesCulled: the frames culled (one a frame drawn after the camera
+    // or the data changed: a check on a frame count taken from requestAnimationFrame)
     culling: true,
     spheresDrawn: null,
     cullingMs: 0,
+    framesCulled: 0,
     setCulling(on) {
       this.culling = on;
       redraws.forEach((redraw) => redraw());
