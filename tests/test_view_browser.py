@@ -229,8 +229,8 @@ def test_software_webgl_draws_without_multisampling(served, browser):
 
 def test_occlusion_culling_leaves_the_picture_unchanged(served, browser):
     """On software WebGL the page draws only the spheres that can be seen (granum-view.js): the hidden ones
-    are left out, and the picture is the same, pixel for pixel, as with every sphere drawn, from the YADE
-    camera and from a camera turned to look through the cloud's depth."""
+    are left out, and the picture is the same, pixel for pixel to within one level of rounding, as with every
+    sphere drawn, from the YADE camera and from a camera turned to look through the cloud's depth."""
     session, O = served
     n = len(session.frame().sphere_ids)
     _click(browser, "yade_camera")
@@ -247,10 +247,14 @@ def test_occlusion_culling_leaves_the_picture_unchanged(served, browser):
             drawn[culling] = browser.execute_script("return window.granum_view.spheresDrawn")
             pictures[culling] = _canvas_picture(browser, f"tutorial02-culling-{name}-{'on' if culling else 'off'}")
         browser.execute_script("window.granum_view.setCulling(true);")
-        different = np.abs(pictures[True].astype(int) - pictures[False]).max(axis=2) > 0
-        print(f"{name}: {drawn[True]} of {n} spheres drawn with culling; {different.sum()} pixels differ")
+        difference = np.abs(pictures[True].astype(int) - pictures[False]).max(axis=2)
+        print(f"{name}: {drawn[True]} of {n} spheres drawn with culling; {(difference > 0).sum()} pixels differ, "
+              f"by at most {difference.max()} levels")
         assert drawn[False] is None and 0 < drawn[True] < n
-        assert different.sum() == 0
+        # A sphere wrongly left out shows the surface behind it: another colour and shade, tens of levels. One
+        # level is rounding: CI once saw a single pixel inside a shaded sphere at blue 20 against 19, the two
+        # pictures drawn from different vertex data (the culled subset, nearest first, against all in id order).
+        assert difference.max() <= 1
     _click(browser, "yade_camera")
 
 
