@@ -251,10 +251,13 @@ def test_occlusion_culling_leaves_the_picture_unchanged(served, browser):
         print(f"{name}: {drawn[True]} of {n} spheres drawn with culling; {(difference > 0).sum()} pixels differ, "
               f"by at most {difference.max()} levels")
         assert drawn[False] is None and 0 < drawn[True] < n
-        # A sphere wrongly left out shows the surface behind it: another colour and shade, tens of levels. One
-        # level is rounding: CI once saw a single pixel inside a shaded sphere at blue 20 against 19, the two
-        # pictures drawn from different vertex data (the culled subset, nearest first, against all in id order).
+        # A sphere wrongly left out shows the surface behind it: another colour and shade (keeping the nearer
+        # half of the spheres culling kept: 13,488 pixels differed, by up to 246 levels). CI once saw a single
+        # pixel inside a shaded sphere at blue 20 against 19, cause not found (the two pictures are drawn from
+        # different vertex data: the culled subset nearest first, all spheres in id order); such rounding is
+        # allowed in a few pixels only.
         assert difference.max() <= 1
+        assert (difference > 0).sum() <= 5
     _click(browser, "yade_camera")
 
 
