@@ -1,23 +1,24 @@
 """Frames per second of the browser view in headless Chromium, and the view's cost to a running simulation.
 
-Not a YADE script: it drives Debian's chromium through selenium (``granum[view]`` and ``selenium``).
-For each size, ``n`` spheres settle in a facet box (tutorial 02's engines); the page is loaded and the
-camera turned for ``BENCH_SECONDS`` seconds, one turn per animation frame: the fps is the number of
-frames drawn per second (vtk.js on Chromium's software WebGL when there is no GPU). On a machine shared
-with other jobs the fps depends on the load, so the CPU time all of Chromium's processes spent per frame
-is reported too (``chromium_cpu_ms``, with ``fps_one_core``, its inverse: the frame rate with one core
-for Chromium alone), and the load average at the time. Each size is measured twice in a row, with the
-page's occlusion culling (``granum-view.js``: on software WebGL the spheres hidden behind others are
-not drawn) off and on, with the spheres the last frame drew and the JavaScript time culling took per
-frame (``culling_js_ms``, part of ``chromium_cpu_ms``). ``frames_culled`` (culling on) counts the frames
-the page drew anew, out of the animation frames counted: equal when each turn is drawn (with Chromium's
-software compositor, ``--disable-gpu-compositing``, animation frames ran at twice the drawing rate, so
-the fps would read twice too high). Then the simulation
-runs ``BENCH_STEPS`` steps with the page open; ``hook_share`` is the time spent taking frames between
-compiled chunks and publishing them to the page, over the run's time (the view's server-side cost,
-target <= 5 %; ``seconds_with_view`` also includes Chromium drawing on the same cores).
+Not a YADE script: it drives Debian's chromium through selenium (``granum[view]`` and ``selenium``). For each
+size, ``n`` spheres settle in a facet box (tutorial 02's engines); the page is loaded and the camera turned
+for ``BENCH_SECONDS`` seconds, one turn per animation frame: the fps is the number of frames drawn per second
+(vtk.js on Chromium's software WebGL when there is no GPU). On a machine shared with other jobs the fps
+depends on the load, so the CPU time all of Chromium's processes spent per frame is reported too
+(``chromium_cpu_ms``, with ``fps_one_core``, its inverse: the frame rate with one core for Chromium alone),
+and the load average at the time. Each size is measured with the page's occlusion culling (``granum-view.js``:
+on software WebGL the spheres hidden behind others are not drawn) off, then on ``BENCH_REPEAT`` times in a row
+(one run's frame rate moved by 10-20 % on a shared 2-core machine; a ``view_fps_runs`` line gives the
+smallest, median and largest), with the spheres the last frame drew and the JavaScript time culling took per
+frame (``culling_js_ms``, part of ``chromium_cpu_ms``). ``frames_culled`` (culling on) counts the frames the
+page drew anew, out of the animation frames counted: equal when each turn is drawn (with Chromium's software
+compositor, ``--disable-gpu-compositing``, animation frames ran at twice the drawing rate, so the fps would
+read twice too high). Then the simulation runs ``BENCH_STEPS`` steps with the page open; ``server_share`` is the
+time spent taking frames between compiled chunks and publishing them to the page, over the run's time (the
+view's server-side cost, target <= 5 %; ``seconds_with_view`` also includes Chromium drawing on the same
+cores).
 
-    python benchmarks/view_fps.py            # BENCH_SIZES=10000,100000 BENCH_SECONDS=5 BENCH_STEPS=200
+    python benchmarks/view_fps.py   # BENCH_SIZES=10000,100000 BENCH_SECONDS=10 BENCH_REPEAT=3 BENCH_STEPS=200
 """
 
 from __future__ import annotations
@@ -94,7 +95,8 @@ def main() -> None:
     from granum.yade import O, view
 
     sizes = [int(x) for x in os.environ.get("BENCH_SIZES", "10000,100000").split(",")]
-    seconds = float(os.environ.get("BENCH_SECONDS", "5"))
+    seconds = float(os.environ.get("BENCH_SECONDS", "10"))
+    repeat = int(os.environ.get("BENCH_REPEAT", "3"))
     steps = int(os.environ.get("BENCH_STEPS", "200"))
     options = webdriver.ChromeOptions()
     for arg in ("--headless=new", "--no-sandbox", "--window-size=1000,700", "--use-angle=swiftshader",
@@ -118,7 +120,8 @@ def main() -> None:
         while time.monotonic() < end and f"({spheres} spheres)" not in driver.page_source:
             time.sleep(0.2)
         time.sleep(2)
-        for culling in ("off", "on"):   # the page's occlusion culling (software WebGL only), same load
+        on_fps = []
+        for culling in ("off",) + ("on",) * repeat:   # the page's occlusion culling (software WebGL only)
             driver.execute_script(f"window.granum_view.setCulling({'true' if culling == 'on' else 'false'});"
                                   "window.granum_view.cullingMs = 0; window.granum_view.framesCulled = 0;")
             time.sleep(1)
@@ -132,6 +135,11 @@ def main() -> None:
                   f"culling_js_ms={cull_ms / max(drawn, 1):.3g} frames_culled={culled}/{drawn} "
                   f"spheres_drawn_last={shown} "
                   f"load_average={os.getloadavg()[0]:.3g}", flush=True)
+            if culling == "on":
+                on_fps.append(drawn / elapsed)
+        on_fps.sort()
+        print(f"BENCH name=view_fps_runs spheres={spheres} culling=on runs={len(on_fps)} fps_min={on_fps[0]:.3g} "
+              f"fps_median={on_fps[len(on_fps) // 2]:.3g} fps_max={on_fps[-1]:.3g}", flush=True)
         session.hook_seconds = session.publish_seconds = 0.0
         taken = session.frames_taken
         t0 = time.perf_counter()
