@@ -165,6 +165,74 @@ def clump_place(i, S):
             S.ori[m, k] = qm[k]
 
 
+@jit(inline="always")  # inlined with constant arguments, the branches of the cases not taken vanish
+def translate(i, pos, vel, force, m, gravity, dt, blocked, damping, damp_gravity, flow, jump, conv, track, sums):
+    """Leapfrog step of body ``i``'s centre (3.5,1)-(3.5,7) with YADE's damping (0 for none): the velocity of each
+    DOF not blocked, then the position. ``flow``: the homogeneous flow's velocity at the body (periodic cell),
+    ``jump``/``conv`` the velocity's jump and convective change there (zero outside a periodic cell). ``sums``:
+    (kinetic energy, damping's work, gravity's work) so far, returned with this body's part added when ``track``
+    (energies use the velocity of the previous mid-step, as YADE does)."""
+    kinetic, damp_work, grav_work = sums
+    for k in range(3):
+        v = vel[i, k]
+        vf = v - flow[k]
+        if track:
+            kinetic += 0.5 * m * vf * vf
+        if not blocked >> k & 1:
+            g = gravity[k]
+            a = force[i, k] / m + g
+            if track:
+                grav_work -= m * g * vf * dt
+            if damping != 0.0:
+                if damp_gravity:
+                    ad = damp(a, vf + 0.5 * dt * a, damping)
+                else:
+                    ad = damp(a - g, vf + 0.5 * dt * a, damping) + g
+                if track:
+                    damp_work += abs(m * (a - ad) * vf) * dt
+                a = ad
+            v += a * dt + jump[k] + conv[k]
+            vel[i, k] = v
+        pos[i, k] += v * dt
+    return kinetic, damp_work, grav_work
+
+
+@jit(inline="always")
+def spin(i, ori, ang_vel, t, inertia, dt, blocked, damping, track, damp_work, exact_norm):
+    """Spherical rotation of body ``i`` (3.5,8)-(3.5,11): omega += T/I dt for each rotational DOF not blocked
+    (YADE's damping applied), the orientation turned by omega dt. ``t``: the torque [N m]. Returns the damping's
+    work so far, with this body's added when ``track``. ``exact_norm``: the orientation normalized with a square
+    root (an aspherical body with blocked rotations, a wall turned by an engine, keeps YADE's normalization,
+    whose bits the kinematic tests compare); else with the series (:func:`quat_renormalized`)."""
+    for k in range(3):
+        w = ang_vel[i, k]
+        if not blocked >> (3 + k) & 1:
+            aa = t[k] / inertia[i, k]
+            if damping != 0.0:
+                aad = damp(aa, w + 0.5 * dt * aa, damping)
+                if track:
+                    damp_work += abs(inertia[i, k] * (aa - aad) * w) * dt
+                aa = aad
+            w += aa * dt
+            ang_vel[i, k] = w
+    rv = (ang_vel[i, 0] * dt, ang_vel[i, 1] * dt, ang_vel[i, 2] * dt)
+    if rv[0] != 0.0 or rv[1] != 0.0 or rv[2] != 0.0:
+        q = quat_mul(quat_from_rotvec(rv), load4(ori, i))
+        q = quat_normalized(q) if exact_norm else quat_renormalized(q)
+        for k in range(4):
+            ori[i, k] = q[k]
+    return damp_work
+
+
+@jit(inline="always")
+def sane(i, pos, vel, ang_vel):
+    """Whether body ``i`` is finite and not exploding. One test for all six: one inf or NaN makes the sum NaN
+    (x - x != 0); finite values whose sum overflows (beyond 1e307) are reported too, as exploding."""
+    speed2 = vel[i, 0] ** 2 + vel[i, 1] ** 2 + vel[i, 2] ** 2
+    sum6 = pos[i, 0] + pos[i, 1] + pos[i, 2] + ang_vel[i, 0] + ang_vel[i, 1] + ang_vel[i, 2]
+    return (speed2 < EXPLODING_SPEED ** 2) & (sum6 - sum6 == 0.0)
+
+
 @jit
 def newton_block(b, S, nb, gravity, damping, damp_gravity, mask, sums, bad):
     """Leapfrog step of the bodies of block ``b``; their energy sums into ``sums[b]`` (when energies are
@@ -172,7 +240,10 @@ def newton_block(b, S, nb, gravity, damping, damp_gravity, mask, sums, bad):
     with it is left alone: neither its velocity nor its position changes (YADE 2023.02a, measured).
 
     The per-body columns are read into local arrays once (``S`` is a raw view: they are borrowed),
-    so that the loop does not reload them from the record after every store.
+    so that the loop does not reload them from the record after every store. A body without blocked DOFs
+    whose rotation is spherical (a sphere), outside a periodic cell and without energies, takes the same
+    steps with those cases' values as constants: branch-free code, a quarter faster (4,416 spheres at rest, one
+    thread: 17.7 -> 13.4 ns a body; spinning and damped: 47.5 -> 38.7).
     """
     dt = S.scal[S_DT]
     periodic = S.iscal[SI_PERIODIC] != 0
@@ -181,23 +252,30 @@ def newton_block(b, S, nb, gravity, damping, damp_gravity, mask, sums, bad):
     pos, vel, ori, ang_vel, force, torque = S.pos, S.vel, S.ori, S.ang_vel, S.force, S.torque
     mass, inertia, blocked_dofs, is_damped = S.mass, S.inertia, S.blocked, S.is_damped
     alive, clump_id, shape_kind, aspherical, body_mask = S.alive, S.clump_id, S.shape_kind, S.aspherical, S.mask
-    kinetic = 0.0
-    damp_work = 0.0
-    grav_work = 0.0
+    plain = not periodic and not track
+    still = (0.0, 0.0, 0.0)
+    energy = (0.0, 0.0, 0.0)   # kinetic energy, damping's work, gravity's work
     for i in range(b * BLOCK, min(nb, (b + 1) * BLOCK)):
         if not alive[i] or clump_id[i] >= 0 and clump_id[i] != i or mask > 0 and body_mask[i] & mask == 0:
+            continue
+        damp_i = damping if is_damped[i] else 0.0
+        if plain and blocked_dofs[i] == 0 and not aspherical[i] and shape_kind[i] != ShapeKind.CLUMP:
+            translate(i, pos, vel, force, mass[i], gravity, dt, 0, damp_i, damp_gravity, still, still, still, False,
+                      still)
+            spin(i, ori, ang_vel, (torque[i, 0], torque[i, 1], torque[i, 2]), inertia, dt, 0, damp_i, False, 0.0,
+                 False)
+            if not sane(i, pos, vel, ang_vel) and bad[b] < 0:
+                bad[b] = i
             continue
         clump = shape_kind[i] == ShapeKind.CLUMP
         if clump:
             clump_gather(i, S)
         blocked = blocked_dofs[i]
-        m = mass[i]
-        damped = is_damped[i] and damping != 0.0
         # periodic cell: bodies follow the homogeneous flow L x (YADE's homoDeform); damping
         # and energies see only the fluctuation v - Lp x
-        flow = (0.0, 0.0, 0.0)
-        jump = (0.0, 0.0, 0.0)
-        conv = (0.0, 0.0, 0.0)
+        flow = still
+        jump = still
+        conv = still
         if periodic:
             x = load3(pos, i)
             flow = matvec(S.cell_prev_velgrad, x)
@@ -205,28 +283,9 @@ def newton_block(b, S, nb, gravity, damping, damp_gravity, mask, sums, bad):
                 jump = sub(matvec(S.cell_velgrad, x), flow)
             if homo == 2:  # convective acceleration Lp v
                 conv = scale(matvec(S.cell_prev_velgrad, load3(vel, i)), dt)
-        # energies use the velocity of the previous mid-step, as YADE does
-        for k in range(3):
-            v = vel[i, k]
-            vf = v - flow[k]
-            if track:
-                kinetic += 0.5 * m * vf * vf
-            if not blocked >> k & 1:
-                g = gravity[k]
-                a = force[i, k] / m + g
-                if track:
-                    grav_work -= m * g * vf * dt
-                if damped:
-                    if damp_gravity:
-                        ad = damp(a, vf + 0.5 * dt * a, damping)
-                    else:
-                        ad = damp(a - g, vf + 0.5 * dt * a, damping) + g
-                    if track:
-                        damp_work += abs(m * (a - ad) * vf) * dt
-                    a = ad
-                v += a * dt + jump[k] + conv[k]
-                vel[i, k] = v
-            pos[i, k] += v * dt
+        energy = translate(i, pos, vel, force, mass[i], gravity, dt, blocked, damp_i, damp_gravity, flow, jump,
+                           conv, track, energy)
+        kinetic, damp_work, grav_work = energy
         # rotation
         t = (torque[i, 0], torque[i, 1], torque[i, 2])
         if track:
@@ -234,42 +293,20 @@ def newton_block(b, S, nb, gravity, damping, damp_gravity, mask, sums, bad):
             for k in range(3):
                 kinetic += 0.5 * inertia[i, k] * wl[k] * wl[k]
         if aspherical[i] and blocked >> 3 == 0:
-            if damped:
+            if damp_i != 0.0:
                 t = (damp(t[0], ang_vel[i, 0], damping), damp(t[1], ang_vel[i, 1], damping),
                      damp(t[2], ang_vel[i, 2], damping))
             integrate_aspherical(i, S, t, dt)
         else:
-            for k in range(3):
-                w = ang_vel[i, k]
-                if not blocked >> (3 + k) & 1:
-                    aa = t[k] / inertia[i, k]
-                    if damped:
-                        aad = damp(aa, w + 0.5 * dt * aa, damping)
-                        if track:
-                            damp_work += abs(inertia[i, k] * (aa - aad) * w) * dt
-                        aa = aad
-                    w += aa * dt
-                    ang_vel[i, k] = w
-            rv = (ang_vel[i, 0] * dt, ang_vel[i, 1] * dt, ang_vel[i, 2] * dt)
-            if rv[0] != 0.0 or rv[1] != 0.0 or rv[2] != 0.0:
-                q = quat_mul(quat_from_rotvec(rv), load4(ori, i))
-                # spheres: the series; an aspherical body with blocked rotations (a wall turned by an engine)
-                # keeps YADE's normalization, whose bits the kinematic tests compare
-                q = quat_normalized(q) if aspherical[i] else quat_renormalized(q)
-                for k in range(4):
-                    ori[i, k] = q[k]
+            damp_work = spin(i, ori, ang_vel, t, inertia, dt, blocked, damp_i, track, damp_work, aspherical[i])
+        energy = (kinetic, damp_work, grav_work)
         if clump:
             clump_place(i, S)
-        speed2 = vel[i, 0] ** 2 + vel[i, 1] ** 2 + vel[i, 2] ** 2
-        # one test for all six: one inf or NaN makes the sum NaN (x - x != 0); finite values whose sum
-        # overflows (beyond 1e307) are reported too, as exploding
-        sum6 = pos[i, 0] + pos[i, 1] + pos[i, 2] + ang_vel[i, 0] + ang_vel[i, 1] + ang_vel[i, 2]
-        ok = (speed2 < EXPLODING_SPEED ** 2) & (sum6 - sum6 == 0.0)
-        if not ok and bad[b] < 0:
+        if not sane(i, pos, vel, ang_vel) and bad[b] < 0:
             bad[b] = i
-    sums[b, 0] = kinetic
-    sums[b, 1] = damp_work
-    sums[b, 2] = grav_work
+    sums[b, 0] = energy[0]
+    sums[b, 1] = energy[1]
+    sums[b, 2] = energy[2]
 
 
 def _newton_blocks(S, nb, gravity, damping, damp_gravity, mask, sums, bad):
