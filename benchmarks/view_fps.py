@@ -97,6 +97,8 @@ def main() -> None:
     sizes = [int(x) for x in os.environ.get("BENCH_SIZES", "10000,100000").split(",")]
     seconds = float(os.environ.get("BENCH_SECONDS", "10"))
     repeat = int(os.environ.get("BENCH_REPEAT", "3"))
+    if repeat < 1:
+        raise SystemExit(f"view_fps: BENCH_REPEAT={repeat}: the runs with culling must be at least 1")
     steps = int(os.environ.get("BENCH_STEPS", "200"))
     options = webdriver.ChromeOptions()
     for arg in ("--headless=new", "--no-sandbox", "--window-size=1000,700", "--use-angle=swiftshader",
