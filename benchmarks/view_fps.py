@@ -5,7 +5,9 @@ size, ``n`` spheres settle in a facet box (tutorial 02's engines); the page is l
 for ``BENCH_SECONDS`` seconds, one turn per animation frame: the fps is the number of frames drawn per second
 (vtk.js on Chromium's software WebGL when there is no GPU). On a machine shared with other jobs the fps
 depends on the load, so the CPU time all of Chromium's processes spent per frame is reported too
-(``chromium_cpu_ms``, with ``fps_one_core``, its inverse: the frame rate with one core for Chromium alone),
+(``chromium_cpu_ms``, with ``fps_one_core``, its inverse: the frame rate with one core for Chromium alone;
+``gpu_process_ms`` and ``renderer_ms`` its parts in Chromium's GPU process, where SwiftShader draws, and in the
+page's renderer, where the JavaScript runs),
 and the load average at the time. Each size is measured with the page's occlusion culling (``granum-view.js``:
 on software WebGL the spheres hidden behind others are not drawn) off, then on ``BENCH_REPEAT`` times in a row
 (one run's frame rate moved by 10-20 % on a shared 2-core machine; a ``view_fps_runs`` line gives the
@@ -75,18 +77,22 @@ def scene(n: int) -> None:
     O.dt = 0.5 * utils.PWaveTimeStep()
 
 
-def chromium_cpu_seconds(driver) -> float:
-    """CPU time [s] (user + system) used so far by every process of the browser chromedriver started."""
+def chromium_cpu_seconds(driver) -> dict[str, float]:
+    """CPU time [s] (user + system) used so far by the processes of the browser chromedriver started, by the
+    kind Chromium gives a process on its command line (``gpu-process``: WebGL, drawn by SwiftShader without a
+    GPU; ``renderer``: the page's JavaScript; ``browser``: the rest), and in all (``all``)."""
     import psutil
 
-    total = 0.0
+    totals = {"all": 0.0}
     for p in psutil.Process(driver.service.process.pid).children(recursive=True):
         try:
             t = p.cpu_times()
+            kind = next((a.split("=", 1)[1] for a in p.cmdline() if a.startswith("--type=")), "browser")
         except psutil.NoSuchProcess:
             continue
-        total += t.user + t.system
-    return total
+        for key in ("all", kind):
+            totals[key] = totals.get(key, 0.0) + t.user + t.system
+    return totals
 
 
 def main() -> None:
@@ -129,11 +135,15 @@ def main() -> None:
             time.sleep(1)
             cpu0 = chromium_cpu_seconds(driver)
             drawn, elapsed = driver.execute_async_script(TURN, seconds)
-            cpu_per_frame = (chromium_cpu_seconds(driver) - cpu0) / max(drawn, 1)
+            cpu1 = chromium_cpu_seconds(driver)
+            per_frame = {kind: (cpu1[kind] - cpu0.get(kind, 0.0)) / max(drawn, 1) for kind in cpu1}
+            cpu_per_frame = per_frame["all"]
             shown, cull_ms, culled = driver.execute_script(
                 "const v = window.granum_view; return [v.spheresDrawn, v.cullingMs, v.framesCulled];")
             print(f"BENCH name=view_fps spheres={spheres} culling={culling} fps={drawn / elapsed:.3g} "
                   f"chromium_cpu_ms={cpu_per_frame * 1e3:.4g} fps_one_core={1 / cpu_per_frame:.3g} "
+                  f"gpu_process_ms={per_frame.get('gpu-process', 0.0) * 1e3:.4g} "
+                  f"renderer_ms={per_frame.get('renderer', 0.0) * 1e3:.4g} "
                   f"culling_js_ms={cull_ms / max(drawn, 1):.3g} frames_culled={culled}/{drawn} "
                   f"spheres_drawn_last={shown} "
                   f"load_average={os.getloadavg()[0]:.3g}", flush=True)
