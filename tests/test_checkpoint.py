@@ -273,3 +273,18 @@ def test_checkpoints_never_unpickle(yade, tmp_path):
             z.writestr(n, data)
     with pytest.raises(CheckpointError):
         yade.O.load(str(path))
+
+
+def test_the_stages_work_area_is_not_saved(yade, tmp_path):
+    """The contact record's ``scratch`` holds a step's temporaries, no state: checkpoints leave it out, and a
+    loaded scene starts with an empty one (the resumed run's bits are checked above)."""
+    _frictional_box_with_clumps(yade)
+    yade.O.run(20, True)
+    assert yade.O._scene.contacts.scratch.size > 0
+    yade.O.save(str(tmp_path / "scene.yade"))
+    names = zipfile.ZipFile(tmp_path / "scene.yade").namelist()
+    assert any("con_f" in n for n in names)
+    assert not any("scratch" in n for n in names)
+    yade.O.reset()
+    yade.O.load(str(tmp_path / "scene.yade"))
+    assert yade.O._scene.contacts.scratch.size == 0

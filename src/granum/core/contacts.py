@@ -41,6 +41,9 @@ potential pairs are never real, so granum keeps them apart:
     Per ``con_f`` column, the sums over the contacts that ended of the columns that are running totals
     outliving their contact (:func:`register_totals`: YADE's law accumulators such as Hertz-Mindlin's
     ``frictionDissipation``); 0 in the other columns.
+``scratch``  (W,) float64
+    The stages' work area for a step's temporaries (:mod:`granum.kernels.scratch`); not state, so not
+    saved in checkpoints.
 
 Contacts are appended in the order their pairs became real (pair order within a
 step) and removed by stable compaction, so the pool order is deterministic.
@@ -191,7 +194,8 @@ CONTACTS = RecordSpec("ContactArrays", [
     ("pair_ids", "i4", 2), ("pair_cell", "i4", 2), ("pair_con", "i4", 1), ("pair_gap", "f4", 1),
     ("pair_ref", "i2", 2), ("pair_hit", "u1", 1),
     ("con_i", "i4", 2),
-    ("con_f", "f8", 2), ("csr_start", "i4", 1), ("csr_con", "i4", 1), ("ctr", "i8", 1), ("ended", "f8", 1)])
+    ("con_f", "f8", 2), ("csr_start", "i4", 1), ("csr_con", "i4", 1), ("ctr", "i8", 1), ("ended", "f8", 1),
+    ("scratch", "f8", 1)], transient=("scratch",))
 ContactArrays = CONTACTS.tuple
 
 
@@ -215,6 +219,7 @@ def new_contact_arrays(n_bodies: int, pair_capacity: int = 64, contact_capacity:
         csr_con=np.zeros(2 * contact_capacity, np.int32),
         ctr=ctr,
         ended=np.zeros(NF_CORE),
+        scratch=np.zeros(0),
     )
 
 

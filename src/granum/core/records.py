@@ -128,11 +128,15 @@ class RecordSpec:
     Args:
         name: name of the record kind (also of the Python named tuple).
         fields: ``(field name, dtype, ndim)`` for every array.
+        transient: fields that hold no state (work areas whose contents a step does not read from the step
+            before): checkpoints leave them out, and a record loaded from one gets them as a new record has
+            them. The named tuple's class lists them in ``_transient``.
     """
 
-    def __init__(self, name: str, fields: list[tuple[str, str, int]]):
+    def __init__(self, name: str, fields: list[tuple[str, str, int]], transient: tuple[str, ...] = ()):
         self.names = [f[0] for f in fields]
         self.tuple = namedtuple(name, self.names)
+        self.tuple._transient = frozenset(transient)
         self.numba_type = RecordType([(n, types.Array(numpy_support.from_dtype(np.dtype(d)), nd, "C"))
                                       for n, d, nd in fields])
         args = ", ".join(self.names)

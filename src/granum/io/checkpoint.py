@@ -219,7 +219,9 @@ class _Encoder:
         if isinstance(v, dict) and v and all(isinstance(t, Table) for t in v.values()):
             return {"tables": {k.name: self.table(f"scene/{name}/{k.name}", t) for k, t in v.items()}}
         if isinstance(v, tuple) and hasattr(v, "_fields") and all(isinstance(a, np.ndarray) for a in v):
-            return {"record": {f: self.array(f"scene/{name}/{f}", a) for f, a in zip(v._fields, v, strict=True)}}
+            skip = getattr(v, "_transient", ())  # work areas: no state
+            return {"record": {f: self.array(f"scene/{name}/{f}", a) for f, a in zip(v._fields, v, strict=True)
+                               if f not in skip}}
         return self.value(v, _FIELD_NAMES.get(name, f"scene.{name}"))
 
     def table(self, name: str, t: Table) -> dict:
@@ -363,11 +365,14 @@ class _Decoder:
             return {k: self.table(saved[k.name], t.columns, f"{name}.{k.name}") for k, t in fresh.items()}
         if isinstance(fresh, tuple) and hasattr(fresh, "_fields"):
             saved = _tagged(node, "record")
-            if set(saved) != set(fresh._fields):
+            transient = getattr(fresh, "_transient", frozenset())
+            kept = [f for f in fresh._fields if f not in transient]
+            if set(saved) != set(kept):
                 raise self.fail(f"the checkpoint's {name} has the arrays {sorted(saved)}; this granum has "
-                                f"{sorted(fresh._fields)}")
-            out = {}
-            for f, ref in zip(fresh._fields, fresh, strict=True):
+                                f"{sorted(kept)}")
+            out = {f: getattr(fresh, f) for f in transient}
+            for f in kept:
+                ref = getattr(fresh, f)
                 a = self.array(saved[f])
                 tail_ok = a.shape[1:] == ref.shape[1:] or (  # the contact pool is as wide as its laws need
                     f == "con_f" and a.ndim == 2 and NF_CORE <= a.shape[1] <= nf()) or (

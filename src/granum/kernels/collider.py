@@ -54,6 +54,7 @@ from granum.kernels.copy import copy_rows
 from granum.kernels.dispatch import bound_call
 from granum.kernels.pairing import may_collide
 from granum.kernels.schedule import block_queue, next_block, queue_workers
+from granum.kernels.scratch import area, take_u1, words_u1
 from granum.kernels.sorting import argsort_keys, lower_bound, median
 from granum.kernels.static import Static, static_value
 from granum.physics import registry
@@ -129,9 +130,9 @@ moved_blocks, moved_blocks_par = kernel(_moved_blocks)
 
 
 @jit
-def any_body_moved(S, nb):
-    """Whether some body left its Verlet-enlarged bound since the collider last ran."""
-    flags = np.zeros((nb + BLOCK - 1) // BLOCK, np.uint8)
+def any_body_moved(S, nb, flags):
+    """Whether some body left its Verlet-enlarged bound since the collider last ran; ``flags`` (blocks of
+    bodies,) uint8: scratch, one flag a block."""
     if nb < PARALLEL_THRESHOLD:
         moved_blocks(S, nb, flags)
     else:
@@ -735,8 +736,11 @@ def collider_stage(S, C, P):
     bound_code, bound_tab = P.bound_code, P.bound_tab
     nb = S.iscal[SI_NBODIES]
     periodic = S.iscal[SI_PERIODIC] != 0
+    nblocks = (nb + BLOCK - 1) // BLOCK
+    flags, _ = take_u1(area(C, words_u1(nblocks)), 0, nblocks)  # from the work area (granum.kernels.scratch)
     R = raw(S)  # loops over bodies read the scene through a raw view (see granum.core.records)
-    if C.ctr[C_COLLIDE] == 0 and not any_body_moved(R, nb) and not (periodic and cell_moved(S, S.scal[S_VERLET])):
+    if C.ctr[C_COLLIDE] == 0 and not any_body_moved(R, nb, flags) and not (
+            periodic and cell_moved(S, S.scal[S_VERLET])):
         return
     verlet = P.verlet_dist
     if verlet < 0.0:

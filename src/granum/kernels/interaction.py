@@ -75,7 +75,8 @@ from granum.kernels.collider import body_displacement, body_reach
 from granum.kernels.copy import copy_rows
 from granum.kernels.dispatch import functors, geom_call, law_call, phys_call
 from granum.kernels.prefetch import prefetch_row
-from granum.kernels.schedule import block_queue, next_block, queue_workers
+from granum.kernels.schedule import block_queue, next_block, queue_workers, thread_count
+from granum.kernels.scratch import area, rows_of, take_f8, take_i4, take_i8, words_i4
 from granum.kernels.sorting import argsort_keys
 from granum.kernels.static import static_value
 from granum.physics.scgeom import contact_shift, scgeom_incident_vel
@@ -234,9 +235,9 @@ def detect_block(b, S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, bound
     hits[b, 1] = first
 
 
-def _detect(S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, bound, hits):
+def _detect(S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, bound, hits, lists):
+    """``lists`` (workers, BLOCK) int32: a scratch list of candidates per worker (a row per thread at least)."""
     queue = block_queue(hits.shape[0])
-    lists = np.empty((queue_workers(queue), BLOCK), np.int32)  # a row per worker: no allocation per block
     for w in prange(queue_workers(queue)):
         b = next_block(queue, w, -1)
         while b >= 0:
@@ -298,19 +299,18 @@ def motion_bound(S, spread):
             for j in range(3):
                 if S.cell_hsize[i, j] != S.cell_bound_hsize[i, j]:
                     return math.inf, 0.0
-    lo = np.full(3, math.inf)
-    hi = np.full(3, -math.inf)
+    lo_x = lo_y = lo_z = math.inf  # scalars, not arrays: an array would live on the heap
+    hi_x = hi_y = hi_z = -math.inf
     w_max = 0.0
     for b in range(spread.shape[0]):
-        for k in range(3):
-            lo[k] = min(lo[k], spread[b, k])
-            hi[k] = max(hi[k], spread[b, 3 + k])
+        lo_x, lo_y, lo_z = min(lo_x, spread[b, 0]), min(lo_y, spread[b, 1]), min(lo_z, spread[b, 2])
+        hi_x, hi_y, hi_z = max(hi_x, spread[b, 3]), max(hi_y, spread[b, 4]), max(hi_z, spread[b, 5])
         w_max = max(w_max, spread[b, 6])
     if w_max == math.inf:  # a displacement is not finite (min and max pass over NaN: look here first)
         return math.inf, math.inf
-    if lo[0] > hi[0]:  # no live body
+    if lo_x > hi_x:  # no live body
         return 0.0, 0.0
-    extent = math.sqrt((hi[0] - lo[0]) ** 2 + (hi[1] - lo[1]) ** 2 + (hi[2] - lo[2]) ** 2)
+    extent = math.sqrt((hi_x - lo_x) ** 2 + (hi_y - lo_y) ** 2 + (hi_z - lo_z) ** 2)
     return extent, 2.0 * w_max
 
 
@@ -415,15 +415,10 @@ def new_contact(S, C, a, b, p, geom_code, geom_swap, geom_type, phys_code, phys_
 
 
 @jit
-def create_contacts(S, C, geom_code, geom_swap, geom_type, phys_code, phys_swap, phys_type, law_code, hits):
-    """Turn the touching pairs into contacts, in pair order, visiting only the pairs of each block from the
-    first in which the detection found something to the last (``hits``: count and first pair per block); the
+def create_contacts(S, C, geom_code, geom_swap, geom_type, phys_code, phys_swap, phys_type, law_code, hits, new):
+    """Turn the ``new`` touching pairs into contacts, in pair order, visiting only the pairs of each block from
+    the first in which the detection found something to the last (``hits``: count and first pair per block); the
     storage grows once, to what is needed."""
-    new = 0
-    for b in range(hits.shape[0]):
-        new += hits[b, 0]
-    if new == 0:
-        return
     if C.ctr[C_CONTACTS] + new > C.con_i.shape[0]:
         grow_contacts(C, C.ctr[C_CONTACTS] + new)
     # raw views and borrowed arrays from here on (the storage has grown): no reference counting per contact
@@ -846,28 +841,48 @@ def interaction_stage(S, C, P):
     law_code, law_tab, pair_ok = P.law_code, P.law_tab, P.pair_ok
     widen_contacts(C, P.width)
     nb = S.iscal[SI_NBODIES]
+    nblocks = (nb + BLOCK - 1) // BLOCK
+    pair_blocks = (C.ctr[C_PAIRS] + BLOCK - 1) // BLOCK
+    workers = thread_count()
+    # the temporaries of detection, then those of the update, from the work area (granum.kernels.scratch)
+    w = area(C, nb * 4 + nblocks * 7 + pair_blocks * 2 + words_i4(workers * BLOCK))
     R = raw(S)  # hot loops read the records through raw views (see granum.core.records)
     V = raw(C)
-    motion = np.empty((nb, 4))
-    spread = np.empty(((nb + BLOCK - 1) // BLOCK, 7))
+    motion, at = take_f8(w, 0, nb * 4)
+    motion = rows_of(motion, 4)
+    spread, at = take_f8(w, at, nblocks * 7)
+    spread = rows_of(spread, 7)
+    hits, at = take_i8(w, at, pair_blocks * 2)
+    hits = rows_of(hits, 2)  # detection writes every block's row
+    lists, at = take_i4(w, at, workers * BLOCK)
+    lists = rows_of(lists, BLOCK)
     if nb < PARALLEL_THRESHOLD:
         body_motions(R, nb, motion, spread)
     else:
         body_motions_par(R, nb, motion, spread)
     extent, turn = motion_bound(R, spread)
     bound = quick_bound(S, extent, turn)
-    hits = np.zeros(((V.ctr[C_PAIRS] + BLOCK - 1) // BLOCK, 2), np.int64)
     if V.ctr[C_PAIRS] < PARALLEL_THRESHOLD:
-        detect(R, V, geom_code, geom_swap, geom_tab, pair_ok, motion, bound, hits)
+        detect(R, V, geom_code, geom_swap, geom_tab, pair_ok, motion, bound, hits, lists)
     else:
-        detect_par(R, V, geom_code, geom_swap, geom_tab, pair_ok, motion, bound, hits)
-    create_contacts(S, C, geom_code, geom_swap, geom_type, phys_code, phys_swap, phys_type, law_code, hits)
-    if C.ctr[C_STATUS] != 0:
-        return
+        detect_par(R, V, geom_code, geom_swap, geom_tab, pair_ok, motion, bound, hits, lists)
+    new = 0
+    for b in range(pair_blocks):
+        new += hits[b, 0]
+    if new > 0:
+        create_contacts(S, C, geom_code, geom_swap, geom_type, phys_code, phys_swap, phys_type, law_code, hits, new)
+        if C.ctr[C_STATUS] != 0:
+            return
+    n = C.ctr[C_CONTACTS]
+    contact_blocks = (n + BLOCK - 1) // BLOCK
+    nended = C.ended.shape[0]
+    w = area(C, words_i4(contact_blocks) + contact_blocks * nended)
     V = raw(C)  # the storage may have grown
-    n = V.ctr[C_CONTACTS]
-    died = np.zeros((n + BLOCK - 1) // BLOCK, np.int32)
-    totals = np.zeros((died.shape[0], V.ended.shape[0]))
+    died, at = take_i4(w, 0, contact_blocks)
+    died[:] = 0
+    totals, at = take_f8(w, at, contact_blocks * nended)
+    totals = rows_of(totals, nended)
+    totals[:] = 0.0
     if n < PARALLEL_THRESHOLD_CONTACTS:
         update(R, V, geom_tab, phys_tab, law_tab, died, P.law_totals, totals)
     else:

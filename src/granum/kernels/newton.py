@@ -39,6 +39,7 @@ from granum.core.contacts import C_ERR_A, C_STATUS, STATUS_NONFINITE
 from granum.core.records import raw
 from granum.core.shapes import ShapeKind
 from granum.kernels.schedule import block_queue, next_block, queue_workers
+from granum.kernels.scratch import area, rows_of, take_f8, take_i8
 from granum.physics.vec import (
     add,
     cross,
@@ -336,8 +337,11 @@ def newton_stage(S, C, P):
     gravity, damping, damp_gravity, mask = P.gravity, P.damping, P.damp_gravity, P.mask
     nb = S.iscal[SI_NBODIES]
     nblocks = (nb + BLOCK - 1) // BLOCK
-    sums = np.zeros((nblocks, 3))
-    bad = np.full(nblocks, -1, np.int64)
+    w = area(C, nblocks * 4)  # the temporaries from the work area (granum.kernels.scratch)
+    sums, at = take_f8(w, 0, nblocks * 3)
+    sums = rows_of(sums, 3)
+    bad, at = take_i8(w, at, nblocks)
+    bad[:] = -1
     if nb < PARALLEL_THRESHOLD:  # through a raw view: no reference counting per body (granum.core.records)
         newton_blocks(raw(S), nb, gravity, damping, damp_gravity, mask, sums, bad)
     else:
@@ -348,15 +352,16 @@ def newton_stage(S, C, P):
             C.ctr[C_ERR_A] = bad[b]
             break
     if S.iscal[SI_TRACK_ENERGY]:
-        total = np.zeros(3)
+        kinetic = damp_work = grav_work = 0.0
         for b in range(nblocks):   # fixed order: deterministic sums
-            for k in range(3):
-                total[k] += sums[b, k]
-        S.energy[E_KINETIC] = total[0]
+            kinetic += sums[b, 0]
+            damp_work += sums[b, 1]
+            grav_work += sums[b, 2]
+        S.energy[E_KINETIC] = kinetic
         S.energy_set[E_KINETIC] = 1
         if damping != 0.0:
-            S.energy[E_NONVISC_DAMP] += total[1]
+            S.energy[E_NONVISC_DAMP] += damp_work
             S.energy_set[E_NONVISC_DAMP] = 1
-        S.energy[E_GRAV_WORK] += total[2]  # YADE lists gravWork even without gravity
+        S.energy[E_GRAV_WORK] += grav_work  # YADE lists gravWork even without gravity
         S.energy_set[E_GRAV_WORK] = 1
 

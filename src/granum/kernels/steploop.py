@@ -79,12 +79,14 @@ def render(segments: list[list[str]], symbols: list[str]) -> str:
                     f"{indent}entry_call({alias[ref]}, (S, C, PP[{k}]))",
                     f"{indent}if timing:", f"{indent}    times[{k}, 0] += monotonic_ns() - t0",
                     f"{indent}    times[{k}, 1] += 1",
-                    f"{indent}if C.ctr[C_STATUS] != 0:", f"{indent}    return {on_error}".rstrip()]
+                    f"{indent}if ctr[C_STATUS] != 0:", f"{indent}    return {on_error}".rstrip()]
         return out
 
     body = ["", "", "@jit",
             "def run_steps(nmax, segment, S, C, PP, stop_time, virt_last, virt_period, timing, times):",
             "    PP = borrow(PP)",
+            "    # arrays compiled code never replaces, read once: no reference counted per step",
+            "    scal, iscal, ctr = S.scal, S.iscal, C.ctr",
             "    t0 = 0",
             "    if segment >= 0:"]
     first = 0
@@ -95,7 +97,7 @@ def render(segments: list[list[str]], symbols: list[str]) -> str:
     body += [f"        return 0, {WHY_DONE}",
              "    done = 0",
              "    while done < nmax:",
-             "        t = S.scal[S_TIME]",
+             "        t = scal[S_TIME]",
              "        if t >= stop_time:",
              f"            return done, {WHY_TIME}",
              "        for j in range(virt_last.shape[0]):",
@@ -108,7 +110,7 @@ def render(segments: list[list[str]], symbols: list[str]) -> str:
         first += len(seg)
     body += ["        entry_call(step_end, (S,))",
              "        done += 1",
-             "        if S.iscal[SI_HOOK] != 0:",
+             "        if iscal[SI_HOOK] != 0:",
              f"            return done, {WHY_HOOK}",
              f"    return done, {WHY_DONE}"]
     return "\n".join(lines + body) + "\n"

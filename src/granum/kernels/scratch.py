@@ -1,0 +1,102 @@
+"""A step's temporaries, carved out of one work area kept from step to step.
+
+The stages need temporaries each step: the bodies' motions since the collider ran (N, 4), per-block
+counts and sums, the detection's candidate lists. Allocated each step, they were eleven allocations a
+step in a Cundall-Strack scene (``NUMBA_NRT_STATS``): at two bodies, ``malloc``, ``free`` and Numba's
+memory-info bookkeeping took about a fifth of the step (``perf``), and at 1e6 bodies each array of tens of
+MB faulted its pages in again each step. Instead a stage asks :func:`area` for the words it needs and
+takes its pieces one after the other with the ``take_*`` functions::
+
+    w = area(C, nb * 4 + nblocks)
+    motion, at = take_f8(w, 0, nb * 4)
+    motion = rows_of(motion, 4)   # (nb, 4)
+    flags, at = take_u1(w, at, nblocks)
+
+The work area is the contact record's ``scratch`` (float64, 1-D), grown by half at least when a step
+needs more, so that it is replaced O(log n) times in a run. It is not state: checkpoints leave it out
+(:attr:`granum.core.records.RecordSpec.transient`), and a piece holds whatever an earlier stage left
+there, so a stage zeroes what must start at zero. Pieces taken before :func:`area` replaces the array
+keep the old one alive; take the raw view of the record (:func:`granum.core.records.raw`) after
+:func:`area`, which may replace one of its arrays.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import types
+from numba.core import cgutils
+from numba.extending import intrinsic
+
+from granum._jit import jit
+
+
+@jit(inline="always")  # a few instructions: no call
+def area(C, words):
+    """``C.scratch`` with room for at least ``words`` float64 words (replaced by a larger array if needed)."""
+    if C.scratch.shape[0] < words:
+        C.scratch = np.empty(max(words, C.scratch.shape[0] + C.scratch.shape[0] // 2))
+    return C.scratch
+
+
+@jit(inline="always")  # a few instructions: no call
+def words_i4(n):
+    """Words holding ``n`` int32 values."""
+    return (n + 1) // 2
+
+
+@jit(inline="always")  # a few instructions: no call
+def words_u1(n):
+    """Words holding ``n`` bytes."""
+    return (n + 7) // 8
+
+
+@jit(inline="always")  # a few instructions: no call
+def take_f8(w, at, n):
+    """``n`` float64 values of the work area ``w`` from word ``at`` (1-D), and the word after them."""
+    return w[at:at + n], at + n
+
+
+@jit(inline="always")  # a few instructions: no call
+def take_i8(w, at, n):
+    """``n`` int64 values from word ``at`` (1-D), and the word after them."""
+    return w[at:at + n].view(np.int64), at + n
+
+
+@jit(inline="always")  # a few instructions: no call
+def take_i4(w, at, n):
+    """``n`` int32 values from word ``at`` (1-D), and the word after them."""
+    end = at + words_i4(n)
+    return w[at:end].view(np.int32)[:n], end
+
+
+@jit(inline="always")  # a few instructions: no call
+def take_u1(w, at, n):
+    """``n`` bytes from word ``at`` (1-D), and the word after them."""
+    end = at + words_u1(n)
+    return w[at:end].view(np.uint8)[:n], end
+
+
+@intrinsic
+def rows_of(typingctx, a, cols):
+    """The 1-D C-contiguous array ``a`` seen as rows of ``cols`` items (2-D, C-contiguous, ``a.size // cols``
+    rows; the same memory). ``reshape`` would do the same through a C helper of Numba's, a call per piece and
+    step."""
+    if not (isinstance(a, types.Array) and a.ndim == 1 and a.layout == "C" and isinstance(cols, types.Integer)):
+        return None
+
+    def codegen(context, builder, sig, args):
+        src = context.make_array(sig.args[0])(context, builder, value=args[0])
+        out = context.make_array(sig.return_type)(context, builder)
+        ncols = context.cast(builder, args[1], sig.args[1], types.intp)
+        out.meminfo = src.meminfo
+        out.parent = src.parent
+        out.nitems = builder.mul(builder.sdiv(src.nitems, ncols), ncols)
+        out.itemsize = src.itemsize
+        out.data = src.data
+        out.shape = cgutils.pack_array(builder, [builder.sdiv(src.nitems, ncols), ncols])
+        out.strides = cgutils.pack_array(builder, [builder.mul(ncols, src.itemsize), src.itemsize])
+        result = out._getvalue()
+        context.nrt.incref(builder, sig.return_type, result)  # a new reference to ``a``'s memory
+        return result
+
+    return a.copy(ndim=2, layout="C")(a, cols), codegen
