@@ -158,6 +158,10 @@ class RecordSpec:
         SPECS[name] = self
         self._module = load_module(f"record_{name}", "\n".join(src) + "\n")
 
+    def compiled_constructor(self):
+        """The constructor for compiled code: ``make(*arrays)``, a record of the arrays given in field order."""
+        return self._module.to_record
+
     def to_record(self, values) -> Record:
         """A record holding the arrays of the named tuple ``values``."""
         return call(self._module.to_record, *values)

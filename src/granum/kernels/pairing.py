@@ -5,7 +5,7 @@ from __future__ import annotations
 from granum._jit import jit
 
 
-@jit
+@jit(inline="always")  # per candidate pair: no call
 def may_collide(S, i, j, avoid_self):
     """YADE's collision filter: masks share a bit, not two members of one clump, and not two
     bodies of the same mask sharing bits with ``avoidSelfInteractionMask``.
