@@ -81,7 +81,7 @@ def _reach_source() -> str:
 body_reach = load_module("shape_reach", _reach_source()).body_reach
 
 
-@jit
+@jit(inline="always")  # per body and step: no call
 def body_displacement(i, S):
     """``(dx, dy, dz, w)``: displacement of body ``i``'s centre since its bound was computed [m], and
     the rotation angle since then times the body's reach [m] (0 for shapes without a reach, such as
@@ -98,7 +98,7 @@ def body_displacement(i, S):
     return d[0], d[1], d[2], w
 
 
-@jit
+@jit(inline="always")  # per body and step: no call
 def body_motion(i, S):
     """How far any point of body ``i`` may have moved since its bound was computed [m]."""
     dx, dy, dz, w = body_displacement(i, S)

@@ -92,7 +92,7 @@ HIT_TOUCH = 1        # pair_hit: the pair touches and becomes a contact
 HIT_NO_FUNCTOR = 2   # pair_hit: a geometry functor exists for the shapes but is not listed
 
 
-@jit
+@jit(inline="always")  # per evaluated pair: no call
 def pair_shift(S, C, p):
     """Offset H k of the second body's periodic image for pair ``p`` (zero if aperiodic)."""
     if S.iscal[SI_PERIODIC] == 0:
@@ -136,7 +136,7 @@ def detect_pair(p, S, C, geom_code, geom_swap, geom_tab, pair_ok, rel, turn):
     return 0
 
 
-@jit
+@jit(inline="always")  # per candidate pair: no call
 def reference_length(pair_ref, p, unit):
     """|unit * pair_ref[p]| [m], computed alike wherever it is needed (the budget must not see another rounding)."""
     x = unit * float(pair_ref[p, 0])
@@ -145,7 +145,7 @@ def reference_length(pair_ref, p, unit):
     return math.sqrt(x * x + y * y + z * z)
 
 
-@jit
+@jit(inline="always")  # per evaluated pair: no call
 def budget_f32(x):
     """``x`` rounded down to float32, the type of ``pair_gap`` (a budget may be smaller than the true
     one, never larger: a pair that could touch is always evaluated)."""
