@@ -64,7 +64,7 @@ def scgeom_write(c, C, normal, pen, point, r1, r2, ratchet):
     f[c, F_R2] = r2
 
 
-@jit
+@jit(inline="always")  # per contact: no call
 def scgeom_shear_rotation(c, id1, id2, S, C):
     """The step's rotation of contact ``c``'s tangent plane, ``(orth, twist)`` for :func:`rotate_tangential`:
     orth = n_prev x n (the normal's turn, (3.3,4)) and twist = dt/2 (n_prev . (w1 + w2)) n_prev (the common
@@ -77,7 +77,7 @@ def scgeom_shear_rotation(c, id1, id2, S, C):
     return orth, scale(n0, 0.5 * S.scal[S_DT] * dot(n0, w))
 
 
-@jit
+@jit(inline="always")  # per contact: no call
 def rotate_tangential(v, rotation):
     """Carry the tangential vector ``v`` of the last step into the current tangent plane:
     v -= v x orth, then v -= v x twist (``rotation`` from :func:`scgeom_shear_rotation`)."""
@@ -86,7 +86,7 @@ def rotate_tangential(v, rotation):
     return sub(v, cross(v, twist))
 
 
-@jit
+@jit(inline="always")  # per contact: no call
 def scgeom_rotate_shear(c, id1, id2, S, C, fs):
     """Carry the shear force ``fs`` of the last step into the current tangent plane.
 
@@ -112,7 +112,7 @@ def contact_shift(c, S, C):
     return shift, shift_vel
 
 
-@jit
+@jit(inline="always")  # per contact: no call
 def scgeom_incident_vel(c, id1, id2, S, C, shift, shift_vel, ratchet):
     """Velocity of body 2 relative to body 1 at the contact point [m/s].
 
@@ -138,13 +138,13 @@ def scgeom_incident_vel(c, id1, id2, S, C, shift, shift_vel, ratchet):
     return sub(add(v2, cross(w2, arm2)), add(v1, cross(w1, arm1)))
 
 
-@jit
+@jit(inline="always")  # per contact: no call
 def scgeom_ratchet(c, C):
     """Whether the geometry functor of contact ``c`` asked for the anti-ratcheting velocity."""
     return C.con_i[c, I_FLAGS] & FLAG_RATCHET != 0
 
 
-@jit
+@jit(inline="always")  # per contact: no call
 def tangential(v, n):
     """Component of ``v`` orthogonal to the unit vector ``n``."""
     return sub(v, scale(n, dot(v, n)))
