@@ -93,7 +93,7 @@ def too_wide_pair(pairs, hw):
     return -1, -1
 
 
-@jit
+@jit(inline="always")  # one call site, once per body: no call passing eleven arrays
 def partners_of(i, S, s, p, hw, cell, dims, order, start_cell, avoid_self, count, start, out, out_cell):
     """Partners j > i of body ``i`` with their image shifts: counted into ``count[i]`` (``out`` empty) or
     written from ``start[i]``, sorted by j."""
