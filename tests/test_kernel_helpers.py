@@ -1,6 +1,7 @@
 """The loops that replace NumPy conveniences inside kernels (granum.kernels.sorting, granum.kernels.copy) give
 NumPy's results, on random data with ties and on the edge cases; prefetching changes no result; the block
-queue of the parallel loops (granum.kernels.schedule) runs every block once."""
+queue of the parallel loops (granum.kernels.schedule) runs every block once; the pieces of the stages' work
+area (granum.kernels.scratch) are the memory NumPy's views of it name."""
 
 from __future__ import annotations
 
@@ -11,6 +12,7 @@ import numpy as np
 import pytest
 from conftest import frict_engines
 
+from granum.core.contacts import CONTACTS, new_contact_arrays
 from granum.kernels.copy import copy_items, copy_row, copy_rows, copy_to_row
 from granum.kernels.schedule import (
     block_queue,
@@ -22,6 +24,7 @@ from granum.kernels.schedule import (
     serial_next_block,
     serial_queue_workers,
 )
+from granum.kernels.scratch import area, rows_of, take_f8, take_i4, take_i8, take_u1
 from granum.kernels.sorting import argsort_keys, lower_bound, median
 
 
@@ -253,3 +256,37 @@ def test_parallel_block_queue_runs_each_block_once_and_shares_a_slow_range():
     # the worker whose range holds block b: the last one starting at or before it
     owner = np.array([max(w for w in range(workers) if w * 200 // workers <= b) for b in range(200)])
     assert (claimant[:100] != owner[:100]).any(), "no worker took blocks of another's slow range"
+
+
+@numba.njit
+def _fill_pieces(C, words):
+    w = area(C, words)
+    a, at = take_i4(w, 1, 5)
+    b, at = take_u1(w, at, 9)
+    c, at = take_i8(w, at, 2)
+    d, at = take_f8(w, at, 4)
+    for k in range(5):
+        a[k] = k + 1
+    for k in range(9):
+        b[k] = 200 + k
+    c[0] = -7
+    c[1] = 1 << 40
+    rows_of(d, 2)[1, 1] = 3.5
+    return at, a.shape[0], b.shape[0], c.shape[0], d.shape[0]
+
+
+def test_work_area_pieces_are_the_views_numpy_names():
+    """Pieces taken one after the other lie where NumPy's views of the same words find them, in their own
+    dtypes, each starting on a word; the area grows to what is asked and keeps its contents when it need not."""
+    C = CONTACTS.to_record(new_contact_arrays(4))
+    assert _fill_pieces(C, 20) == (12, 5, 9, 2, 4)
+    w = CONTACTS.from_record(C).scratch
+    assert w.shape == (20,)
+    assert list(w[1:4].view(np.int32)[:5]) == [1, 2, 3, 4, 5]
+    assert list(w[4:6].view(np.uint8)[:9]) == list(range(200, 209))
+    assert list(w[6:8].view(np.int64)) == [-7, 1 << 40]
+    assert w[11] == 3.5   # row 1, column 1 of the (2, 2) rows from word 8
+    _fill_pieces(C, 10)   # smaller: the same array
+    assert CONTACTS.from_record(C).scratch.ctypes.data == w.ctypes.data
+    _fill_pieces(C, 25)   # larger: grown by half at least
+    assert CONTACTS.from_record(C).scratch.shape == (30,)
