@@ -52,7 +52,7 @@ from granum.core.shapes import ShapeKind
 from granum.kernels.collider_periodic import find_pairs_periodic
 from granum.kernels.copy import copy_rows
 from granum.kernels.dispatch import bound_call
-from granum.kernels.pairing import may_collide
+from granum.kernels.pairing import may_collide, scratch_width
 from granum.kernels.schedule import block_queue, next_block, queue_workers
 from granum.kernels.scratch import area, take_u1, words_u1
 from granum.kernels.sorting import argsort_keys, lower_bound, median
@@ -382,13 +382,6 @@ def is_binned_large(i, grid):
 
 
 @jit
-def scratch_width(pairs_before, nb):
-    """Partners per body kept by the first pass of :func:`find_pairs` (a body with more is searched again):
-    twice the mean of the last run plus 8, at most 64 (4 bytes each)."""
-    return min(64, 2 * pairs_before // max(nb, 1) + 8)
-
-
-@jit
 def scratch_block(b, S, nb, grid, avoid_self, count, scratch, width):
     """First pass over the bodies of block ``b`` (``grid``: a raw view; borrowing the arrays: no reference
     counting per body): count each body's partners, keeping up to ``width`` of them, sorted, in its slots of
@@ -715,8 +708,8 @@ def _cell_pairs(cell, S, nb, avoid_self, allow_bigger, pairs_before):
     if value is None:
         return None
     if value[1]:
-        return lambda cell, S, nb, avoid_self, allow_bigger, pairs_before: find_pairs_periodic(S, nb, avoid_self,
-                                                                                                allow_bigger)
+        return lambda cell, S, nb, avoid_self, allow_bigger, pairs_before: find_pairs_periodic(
+            S, nb, avoid_self, allow_bigger, pairs_before)
 
     def aperiodic(cell, S, nb, avoid_self, allow_bigger, pairs_before):
         pairs, start = find_pairs(S, nb, avoid_self, pairs_before)

@@ -36,7 +36,7 @@ import numpy as np
 from granum._jit import BLOCK, PARALLEL_THRESHOLD, jit, kernel, prange
 from granum.core.records import borrow
 from granum.core.shapes import ShapeKind
-from granum.kernels.pairing import may_collide
+from granum.kernels.pairing import may_collide, scratch_width
 from granum.kernels.schedule import block_queue, next_block, queue_workers
 from granum.kernels.sorting import argsort_keys
 from granum.physics.vec import inv3
@@ -93,15 +93,13 @@ def too_wide_pair(pairs, hw):
     return -1, -1
 
 
-@jit(inline="always")  # one call site, once per body: no call passing eleven arrays
-def partners_of(i, S, s, p, hw, cell, dims, order, start_cell, avoid_self, count, start, out, out_cell):
-    """Partners j > i of body ``i`` with their image shifts: counted into ``count[i]`` (``out`` empty) or
-    written from ``start[i]``, sorted by j."""
-    fill = out.shape[0] > 0
+@jit(inline="always")  # once per body, in its two passes: no call passing a dozen arrays
+def partners_of(i, S, s, p, hw, cell, dims, order, start_cell, avoid_self, base, cap, ids, shifts):
+    """Number of partners j > i of body ``i``; the first ``cap`` of them and their image shifts are written to
+    ``ids[base:]`` and ``shifts[base:]`` (int32, (n,) and (n, 3)), sorted by j when all fit."""
     if hw[i, 0] < 0.0:
-        return
+        return 0
     n = 0
-    base = start[i] if fill else 0
     for dx in range(-1, 2):
         if dims[0] < 3 and dx < 0 or dims[0] == 1 and dx > 0:
             continue  # fewer than 3 cells: visit each distinct cell once
@@ -136,62 +134,91 @@ def partners_of(i, S, s, p, hw, cell, dims, order, start_cell, avoid_self, count
                         else:
                             k2 = int(img) + p[i, 2] - p[j, 2]
                     if hit:
-                        if fill:
-                            out[base + n, 0] = i
-                            out[base + n, 1] = j
-                            out_cell[base + n, 0] = k0
-                            out_cell[base + n, 1] = k1
-                            out_cell[base + n, 2] = k2
+                        if n < cap:
+                            ids[base + n] = j
+                            shifts[base + n, 0] = k0
+                            shifts[base + n, 1] = k1
+                            shifts[base + n, 2] = k2
                         n += 1
-    if fill:  # insertion sort by partner id (rows of out and out_cell together)
+    if n <= cap:  # insertion sort by partner id (the shifts move with their ids)
         for u in range(base + 1, base + n):
-            v = out[u, 1]
-            c0 = out_cell[u, 0]
-            c1 = out_cell[u, 1]
-            c2 = out_cell[u, 2]
+            v = ids[u]
+            c0 = shifts[u, 0]
+            c1 = shifts[u, 1]
+            c2 = shifts[u, 2]
             w = u - 1
-            while w >= base and out[w, 1] > v:
-                out[w + 1, 1] = out[w, 1]
+            while w >= base and ids[w] > v:
+                ids[w + 1] = ids[w]
                 for a in range(3):
-                    out_cell[w + 1, a] = out_cell[w, a]
+                    shifts[w + 1, a] = shifts[w, a]
                 w -= 1
-            out[w + 1, 1] = v
-            out_cell[w + 1, 0] = c0
-            out_cell[w + 1, 1] = c1
-            out_cell[w + 1, 2] = c2
-    else:
-        count[i] = n
+            ids[w + 1] = v
+            shifts[w + 1, 0] = c0
+            shifts[w + 1, 1] = c1
+            shifts[w + 1, 2] = c2
+    return n
 
 
 @jit
-def partners_block(b, S, nb, s, p, hw, cell, dims, order, start_cell, avoid_self, count, start, out, out_cell):
-    """Bodies of block ``b`` (borrowing the arrays: no reference counting per body)."""
-    s, p, hw, cell, dims, order, start_cell, count, start, out, out_cell = borrow(
-        (s, p, hw, cell, dims, order, start_cell, count, start, out, out_cell))
+def scratch_block(b, S, nb, s, p, hw, cell, dims, order, start_cell, avoid_self, count, width, ids, shifts):
+    """First pass over the bodies of block ``b`` (borrowing the arrays: no reference counting per body): count
+    each body's partners, keeping up to ``width`` of them, sorted, with their shifts, in its slots of ``ids``
+    and ``shifts``."""
+    s, p, hw, cell, dims, order, start_cell, count, ids, shifts = borrow(
+        (s, p, hw, cell, dims, order, start_cell, count, ids, shifts))
     for i in range(b * BLOCK, min(nb, (b + 1) * BLOCK)):
-        partners_of(i, S, s, p, hw, cell, dims, order, start_cell, avoid_self, count, start, out, out_cell)
+        count[i] = partners_of(i, S, s, p, hw, cell, dims, order, start_cell, avoid_self, i * width, width, ids,
+                               shifts)
 
 
-def _partners(S, nb, s, p, hw, cell, dims, order, start_cell, avoid_self, count, start, out, out_cell):
-    """Pass 1 (``out`` empty): count partners j > i. Pass 2: write them, sorted by j."""
+def _scratch_pass(S, nb, s, p, hw, cell, dims, order, start_cell, avoid_self, count, width, ids, shifts):
     queue = block_queue((nb + BLOCK - 1) // BLOCK)
     for w in prange(queue_workers(queue)):
         b = next_block(queue, w, -1)
         while b >= 0:
-            partners_block(b, S, nb, s, p, hw, cell, dims, order, start_cell, avoid_self, count, start, out, out_cell)
+            scratch_block(b, S, nb, s, p, hw, cell, dims, order, start_cell, avoid_self, count, width, ids, shifts)
             b = next_block(queue, w, b)
 
 
-partners, partners_par = kernel(_partners)
+scratch_pass, scratch_pass_par = kernel(_scratch_pass)
 
 
 @jit
-def find_pairs_periodic(S, nb, avoid_self, allow_bigger):
+def write_pass(S, nb, s, p, hw, cell, dims, order, start_cell, avoid_self, count, width, ids, shifts, start,
+               out, out_cell):
+    """Second pass, serial: each body's partners into its rows of ``out`` and ``out_cell``, copied from the
+    first pass's slots, or searched again for a body with more than ``width``."""
+    s, p, hw, cell, dims, order, start_cell, count, ids, shifts, start, out, out_cell = borrow(
+        (s, p, hw, cell, dims, order, start_cell, count, ids, shifts, start, out, out_cell))
+    for i in range(nb):
+        n = count[i]
+        row = start[i]
+        if n <= width:
+            first = i * width
+            for t in range(n):
+                out[row + t, 0] = i
+                out[row + t, 1] = ids[first + t]
+                for a in range(3):
+                    out_cell[row + t, a] = shifts[first + t, a]
+            continue
+        more_ids = np.empty(n, np.int32)
+        more_shifts = np.empty((n, 3), np.int32)
+        partners_of(i, S, s, p, hw, cell, dims, order, start_cell, avoid_self, 0, n, more_ids, more_shifts)
+        for t in range(n):
+            out[row + t, 0] = i
+            out[row + t, 1] = more_ids[t]
+            for a in range(3):
+                out_cell[row + t, a] = more_shifts[t, a]
+
+
+@jit
+def find_pairs_periodic(S, nb, avoid_self, allow_bigger, pairs_before):
     """Pairs (i < j) with overlapping boxes for the nearest image: ``(pairs, start, cells, too_large, axis)``.
 
     ``too_large`` is the id of a body too wide for a partner (:func:`too_wide_pair`; then the pairs are not
     valid) and ``axis`` the cell axis it is too wide along, else -1 and -1; ``allow_bigger``: YADE's
-    ``allowBiggerThanPeriod``, no body is too wide.
+    ``allowBiggerThanPeriod``, no body is too wide; ``pairs_before``: the pair count of the last run (sizes the
+    first pass, :func:`granum.kernels.pairing.scratch_width`).
     """
     s, p, hw = fractional_boxes(S, nb)
     width = np.zeros(3)
@@ -216,23 +243,22 @@ def find_pairs_periodic(S, nb, avoid_self, allow_bigger):
         start_cell[keys[i] + 1] += 1
     for k in range(ncells + 1):
         start_cell[k + 1] += start_cell[k]
+    # one search per body, keeping its first partners; only bodies with more are searched again
     count = np.zeros(nb, np.int64)
-    start = np.zeros(nb + 1, np.int64)
-    none = np.zeros((0, 2), np.int32)
-    none_cell = np.zeros((0, 3), np.int32)
-    par = nb >= PARALLEL_THRESHOLD
-    if par:
-        partners_par(S, nb, s, p, hw, cell, dims, order, start_cell, avoid_self, count, start, none, none_cell)
+    keep = scratch_width(pairs_before, nb)
+    ids = np.empty(nb * keep, np.int32)
+    shifts = np.empty((nb * keep, 3), np.int32)
+    if nb >= PARALLEL_THRESHOLD:
+        scratch_pass_par(S, nb, s, p, hw, cell, dims, order, start_cell, avoid_self, count, keep, ids, shifts)
     else:
-        partners(S, nb, s, p, hw, cell, dims, order, start_cell, avoid_self, count, start, none, none_cell)
+        scratch_pass(S, nb, s, p, hw, cell, dims, order, start_cell, avoid_self, count, keep, ids, shifts)
+    start = np.zeros(nb + 1, np.int64)
     for i in range(nb):
         start[i + 1] = start[i] + count[i]
     out = np.empty((start[nb], 2), np.int32)
     out_cell = np.empty((start[nb], 3), np.int32)
-    if par:
-        partners_par(S, nb, s, p, hw, cell, dims, order, start_cell, avoid_self, count, start, out, out_cell)
-    else:
-        partners(S, nb, s, p, hw, cell, dims, order, start_cell, avoid_self, count, start, out, out_cell)
+    write_pass(S, nb, s, p, hw, cell, dims, order, start_cell, avoid_self, count, keep, ids, shifts, start, out,
+               out_cell)
     if not allow_bigger and max(width[0], width[1], width[2]) > HALF_CELL:
         body, axis = too_wide_pair(out, hw)
         return out, start, out_cell, body, axis
