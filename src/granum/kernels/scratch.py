@@ -87,22 +87,11 @@ def piece(typingctx, w, at, n, dtype):
 
     def codegen(context, builder, sig, args):
         src = context.make_array(sig.args[0])(context, builder, value=args[0])
-        out = context.make_array(sig.return_type)(context, builder)
-        intp = types.intp
-        start = context.cast(builder, args[1], sig.args[1], intp)
-        count = context.cast(builder, args[2], sig.args[2], intp)
-        itemsize = context.get_constant(intp, context.get_abi_sizeof(context.get_data_type(dtype.instance_type)))
-        data = builder.bitcast(builder.gep(src.data, [start]), out.data.type)
-        out.meminfo = src.meminfo
-        out.parent = src.parent
-        out.nitems = count
-        out.itemsize = itemsize
-        out.data = data
-        out.shape = cgutils.pack_array(builder, [count])
-        out.strides = cgutils.pack_array(builder, [itemsize])
-        result = out._getvalue()
-        context.nrt.incref(builder, sig.return_type, result)  # a new reference to ``w``'s memory
-        return result
+        start = context.cast(builder, args[1], sig.args[1], types.intp)
+        count = context.cast(builder, args[2], sig.args[2], types.intp)
+        itemsize = context.get_constant(types.intp,
+                                        context.get_abi_sizeof(context.get_data_type(dtype.instance_type)))
+        return _view(context, builder, sig.return_type, src, builder.gep(src.data, [start]), [count], itemsize)
 
     return result_type(w, at, n, dtype), codegen
 
@@ -117,17 +106,31 @@ def rows_of(typingctx, a, cols):
 
     def codegen(context, builder, sig, args):
         src = context.make_array(sig.args[0])(context, builder, value=args[0])
-        out = context.make_array(sig.return_type)(context, builder)
         ncols = context.cast(builder, args[1], sig.args[1], types.intp)
-        out.meminfo = src.meminfo
-        out.parent = src.parent
-        out.nitems = builder.mul(builder.sdiv(src.nitems, ncols), ncols)
-        out.itemsize = src.itemsize
-        out.data = src.data
-        out.shape = cgutils.pack_array(builder, [builder.sdiv(src.nitems, ncols), ncols])
-        out.strides = cgutils.pack_array(builder, [builder.mul(ncols, src.itemsize), src.itemsize])
-        result = out._getvalue()
-        context.nrt.incref(builder, sig.return_type, result)  # a new reference to ``a``'s memory
-        return result
+        return _view(context, builder, sig.return_type, src, src.data, [builder.sdiv(src.nitems, ncols), ncols],
+                     src.itemsize)
 
     return a.copy(ndim=2, layout="C")(a, cols), codegen
+
+
+def _view(context, builder, ty, src, data, shape, itemsize):
+    """LLVM value of a C-contiguous array of Numba type ``ty`` over ``src``'s memory (the array structure
+    ``src`` of an intrinsic's argument): items of ``itemsize`` bytes from the pointer ``data``, of ``shape``
+    (LLVM integers). It holds a new reference to ``src``'s memory, as an intrinsic's result must."""
+    out = context.make_array(ty)(context, builder)
+    strides = [itemsize]
+    for extent in reversed(shape[1:]):
+        strides.insert(0, builder.mul(extent, strides[0]))
+    nitems = shape[0]
+    for extent in shape[1:]:
+        nitems = builder.mul(nitems, extent)
+    out.meminfo = src.meminfo
+    out.parent = src.parent
+    out.nitems = nitems
+    out.itemsize = itemsize
+    out.data = builder.bitcast(data, out.data.type)
+    out.shape = cgutils.pack_array(builder, shape)
+    out.strides = cgutils.pack_array(builder, strides)
+    result = out._getvalue()
+    context.nrt.incref(builder, ty, result)
+    return result
