@@ -77,8 +77,9 @@ numpy.save('state.npy', numpy.array([list(b.state.pos) + list(b.state.vel) + lis
 
 
 def test_parallel_kernels_equal_serial_ones_bitwise_at_any_thread_count(tmp_path):
-    """The dense lattice above the parallel threshold: -j1, -j2 and the kernels compiled without parallel
-    loops (GRANUM_NOPAR=1) give the same bits (no lost writes, no races, no thread-dependent sums)."""
+    """The dense lattice above the parallel threshold: -j1 (the step loop of the stages' serial variants,
+    granum._jit.serial_variant), -j2 (the parallel kernels) and the kernels compiled without parallel loops
+    (GRANUM_NOPAR=1) give the same bits (no lost writes, no races, no thread-dependent sums)."""
     import os
     import subprocess
     import sys
@@ -97,3 +98,53 @@ def test_parallel_kernels_equal_serial_ones_bitwise_at_any_thread_count(tmp_path
     assert np.abs(states["j1"][:4913, 3:6]).max() > 0, "nothing moved"
     assert (states["j1"] == states["j2"]).all()
     assert (states["j1"] == states["serial"]).all()
+
+
+def _compiled_stages():
+    """Every engine stage function granum's engines name (``stage = "module:function"``)."""
+    import importlib
+    import pkgutil
+
+    import granum.engines
+
+    refs = set()
+    for info in pkgutil.iter_modules(granum.engines.__path__):
+        module = importlib.import_module(f"granum.engines.{info.name}")
+        refs |= {v.stage for v in vars(module).values() if isinstance(getattr(v, "stage", None), str)}
+    return {ref: getattr(importlib.import_module(ref.split(":")[0]), ref.split(":")[1]) for ref in refs}
+
+
+def _reaches_parallel_code(fn, seen) -> bool:
+    """Whether granum function ``fn`` (a dispatcher or an overloaded function) reaches a parallel dispatcher
+    through its globals, those of the functions nested in it and those of granum's overloads."""
+    from granum import _jit
+
+    if id(fn) in seen:
+        return False
+    seen.add(id(fn))
+    if getattr(fn, "targetoptions", {}).get("parallel"):
+        return True
+    py = fn.py_func if hasattr(fn, "py_func") else _jit._OVERLOADS[fn][0]
+    for name in _jit._global_names(py.__code__):
+        value = py.__globals__.get(name)
+        if (getattr(value, "py_func", None) is not None and value.py_func.__module__.startswith("granum")) or (
+                callable(value) and value in _jit._OVERLOADS):
+            if _reaches_parallel_code(value, seen):
+                return True
+    return False
+
+
+def test_the_serial_variants_of_the_stages_reach_no_parallel_code():
+    """A step loop of serial variants (small scenes, one thread) compiles no parallel kernel: not through a
+    stage's callees, nor through an overload (the collider's broad phase is chosen by one)."""
+    from granum._jit import serial_variant
+
+    stages = _compiled_stages()
+    assert len(stages) >= 15, "the engines' stages were not found"
+    parallel = [ref for ref, fn in stages.items() if _reaches_parallel_code(fn, set())]
+    assert {"granum.kernels.collider:collider_stage", "granum.kernels.interaction:interaction_stage",
+            "granum.kernels.newton:newton_stage"} <= set(parallel)
+    still = [ref for ref, fn in stages.items() if _reaches_parallel_code(serial_variant(fn), set())]
+    assert not still, f"serial variants that reach parallel code: {still}"
+    assert serial_variant(stages["granum.kernels.fields:axial_gravity_stage"]) is (
+        stages["granum.kernels.fields:axial_gravity_stage"]), "a stage without parallel code is its own variant"

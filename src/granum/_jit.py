@@ -8,8 +8,10 @@
   granum decorates a function, and restored (a user's ``@njit(cache=True)`` keeps
   Numba's own rules).
 * :func:`kernel` compiles one Python function twice, serially and with ``prange``
-  parallelism. Callers pick the variant by problem size only (never by thread
-  count), so results are bitwise independent of the number of threads.
+  parallelism. Callers pick the variant by problem size, and both give the same bits,
+  so results are bitwise independent of the number of threads. A step loop of small
+  scenes, or on one thread, calls :func:`serial_variant` of its stages, which compile
+  no parallel code.
 * Two compile paths. The *fast* path links compiled functions into their callers
   once (:mod:`granum._linking`), compiles a first run's stages on two processes
   (:mod:`granum._compile`) and fuses the stages of a step into one compiled loop
@@ -193,19 +195,45 @@ def jit(fn=None, **kw):
     return make if fn is None else make(fn)
 
 
+#: granum's overloaded functions, function -> (typing function, overload options): :func:`serial_variant` makes
+#: serial variants of them.
+_OVERLOADS: dict = {}
+
+
 def overload(func, **options):
     """``numba.extending.overload`` for granum's own overloads: on the fast path their implementations compile
     link-only (:func:`granum._linking.overload`)."""
     if PLAIN:
         from numba.extending import overload as numba_overload
 
-        return numba_overload(func, **options)
-    return _linking.overload(func, **options)
+        declare = numba_overload(func, **dict(options))
+    else:
+        declare = _linking.overload(func, **dict(options))
+
+    def decorate(definition):
+        _OVERLOADS[func] = (definition, options)
+        return declare(definition)
+
+    return decorate
 
 
 #: Globals that the serial variant of a kernel resolves to other functions, name -> function (registered by
 #: :mod:`granum.kernels.schedule`: the serial variant takes its blocks in order, without a queue).
 SERIAL_GLOBALS: dict = {}
+
+
+def _renamed_copy(fn, replaced: dict, suffix: str):
+    """A copy of Python function ``fn`` named with ``suffix`` (so that its compiled code has a cache file of its
+    own) that sees the globals ``replaced`` in place of its module's, and the others as they are now."""
+    copy = types.FunctionType(fn.__code__, {**fn.__globals__, **replaced}, fn.__name__ + suffix,
+                              fn.__defaults__, fn.__closure__)
+    copy.__qualname__ = fn.__qualname__ + suffix
+    copy.__module__ = fn.__module__
+    return copy
+
+
+#: The serial variant of each parallel one :func:`kernel` made, parallel dispatcher -> serial dispatcher.
+_SERIAL_OF: dict = {}
 
 
 def kernel(fn):
@@ -218,14 +246,68 @@ def kernel(fn):
     The serial variant is a copy of ``fn`` that sees the names of ``SERIAL_GLOBALS``
     replaced, and the other globals of its module as they are when ``kernel`` is called.
     """
-    serial = types.FunctionType(fn.__code__, {**fn.__globals__, **SERIAL_GLOBALS}, fn.__name__,
-                                fn.__defaults__, fn.__closure__)
-    twin = types.FunctionType(fn.__code__, fn.__globals__, fn.__name__ + "_parallel",
-                              fn.__defaults__, fn.__closure__)
-    for f, suffix in ((serial, ""), (twin, "_parallel")):
-        f.__qualname__ = fn.__qualname__ + suffix
-        f.__module__ = fn.__module__
-    return jit(serial), jit(twin, parallel=not SERIAL_ONLY)
+    serial = jit(_renamed_copy(fn, SERIAL_GLOBALS, ""))
+    parallel = jit(_renamed_copy(fn, {}, "_parallel"), parallel=not SERIAL_ONLY)
+    _SERIAL_OF[parallel] = serial
+    return serial, parallel
+
+
+def serial_variant(dispatcher):
+    """``dispatcher`` (a granum function) compiled to call the serial variant of every :func:`kernel` it reaches
+    through its globals and granum's overloads: itself when it reaches none, else a renamed copy (made once).
+
+    A step loop made of such variants compiles no parallel code (a third of a first run's compiling) and computes
+    what the stages compute, bit for bit: it only runs, in every kernel, the variant that the stages pick below
+    their size thresholds. The runner uses it for scenes below them and for runs on one thread
+    (:meth:`granum.engines.runner.Runner.serial`)."""
+    if dispatcher not in _SERIAL_OF:
+        _SERIAL_OF[dispatcher] = dispatcher  # while its callees are looked at (a recursive function calls itself)
+        replaced = _serial_globals(dispatcher.py_func)
+        if replaced:
+            options = {k: v for k, v in dispatcher.targetoptions.items() if k != "nopython"}
+            _SERIAL_OF[dispatcher] = jit(_renamed_copy(dispatcher.py_func, replaced, "_serial"), **options)
+    return _SERIAL_OF[dispatcher]
+
+
+def _serial_overload(func):
+    """The overloaded function ``func`` (:func:`overload`) whose implementations call serial variants: itself
+    when they reach no :func:`kernel`, else a renamed copy overloaded by a copy of its typing function that sees
+    the serial variants (the implementations it defines inherit its globals)."""
+    if func not in _SERIAL_OF:
+        _SERIAL_OF[func] = func
+        definition, options = _OVERLOADS[func]
+        replaced = _serial_globals(definition)
+        if replaced:
+            variant = _renamed_copy(func, {}, "_serial")
+            overload(variant, **options)(_renamed_copy(definition, replaced, "_serial"))
+            _SERIAL_OF[func] = variant
+    return _SERIAL_OF[func]
+
+
+def _serial_globals(fn) -> dict:
+    """The globals of Python function ``fn`` (its nested functions included) that have serial variants, name ->
+    variant (:func:`serial_variant`)."""
+    replaced = {}
+    for name in _global_names(fn.__code__):
+        value = fn.__globals__.get(name)
+        if getattr(value, "py_func", None) is not None and value.py_func.__module__.startswith("granum"):
+            variant = serial_variant(value)
+        elif callable(value) and value in _OVERLOADS:
+            variant = _serial_overload(value)
+        else:
+            continue
+        if variant is not value:
+            replaced[name] = variant
+    return replaced
+
+
+def _global_names(code) -> set[str]:
+    """The names ``code`` and the functions defined in it may read as globals."""
+    names = set(code.co_names)
+    for const in code.co_consts:
+        if isinstance(const, types.CodeType):
+            names |= _global_names(const)
+    return names
 
 
 @contextlib.contextmanager
@@ -291,4 +373,4 @@ def entry_points(calls) -> list[str]:
 
 
 __all__ = ["call", "compile_lock", "entry", "entry_points", "jit", "kernel", "njit", "overload", "prange", "BLOCK",
-           "PARALLEL_THRESHOLD", "CACHE_DIR", "PLAIN", "SOURCE_HASH"]
+           "PARALLEL_THRESHOLD", "CACHE_DIR", "PLAIN", "SOURCE_HASH", "serial_variant"]

@@ -19,13 +19,15 @@ import time
 import numba
 import numpy as np
 
-from granum._jit import call
+from granum._jit import PARALLEL_THRESHOLD, PARALLEL_THRESHOLD_CONTACTS, call
 from granum.core import heap
 from granum.core.arrays import SI_HOOK
 from granum.core.contacts import (
     C_COLLIDER_RUNS,
+    C_CONTACTS,
     C_ERR_A,
     C_ERR_B,
+    C_PAIRS,
     C_STATUS,
     CONTACTS,
 )
@@ -80,8 +82,9 @@ class Plan:
         self.key = plan_key(engines)
         self._loops: dict = {}
 
-    def run_steps(self, *args):
-        """Run the compiled step loop ``run_steps(*args)`` (see :mod:`granum.kernels.steploop`).
+    def run_steps(self, *args, serial: bool = False):
+        """Run the compiled step loop ``run_steps(*args)`` (see :mod:`granum.kernels.steploop`); with ``serial``,
+        the loop of the stages' serial variants (:meth:`Runner.serial`).
 
         The first time for the types of the scene, contacts and parameters, the functions the loop calls
         (the stages, the cell's step boundaries) are loaded from the disk cache or compiled, on two processes
@@ -89,10 +92,10 @@ class Plan:
         compile path, a Python loop calls their entry points). It is kept per argument types: calls skip Numba's
         typing.
         """
-        key = _type_key(args)
+        key = _type_key(args), serial
         loop = self._loops.get(key)
         if loop is None:
-            loop = self._loops[key] = steploop.loop(self.segments, args)
+            loop = self._loops[key] = steploop.loop(self.segments, args, serial)
         return loop(*args)
 
 
@@ -172,6 +175,18 @@ class Runner:
             raise SimulationError(f"body {i} has mass {b.mass[i]} but free translational DOFs; "
                                   f"give it a positive mass (density) or block its DOFs (fixed=True)")
 
+    def serial(self) -> bool:
+        """Whether the next chunk of steps runs the stages' serial variants (:func:`granum._jit.serial_variant`):
+        on one thread, or while the scene is below every kernel's size threshold for running in parallel
+        (bodies, potential pairs, contact rows). Those kernels then run serially anyway, so the results are the
+        same, and a small scene's first run compiles no parallel code. Chosen at each chunk (at most
+        :data:`CHUNK_SECONDS`): a scene that outgrows the thresholds during a run is back in parallel within one."""
+        if numba.get_num_threads() == 1:
+            return True
+        ctr = self.scene.contacts.ctr
+        return bool(self.scene.body_count < PARALLEL_THRESHOLD and ctr[C_PAIRS] < PARALLEL_THRESHOLD
+                    and ctr[C_CONTACTS] < PARALLEL_THRESHOLD_CONTACTS)
+
     def steps_allowed(self, plan: Plan, limit: int) -> int:
         """How many whole steps may run compiled before a Python engine could be due."""
         scene = self.scene
@@ -208,7 +223,7 @@ class Runner:
                 S = scene.arrays()
                 C = CONTACTS.to_record(scene.contacts)
                 done, why = plan.run_steps(m, -1, S, C, PP, float(stop_time), virt_last, virt_period, timing,
-                                           times)
+                                           times, serial=self.serial())
                 scene.contacts = CONTACTS.from_record(C)
             self.sync_counters(plan, times)
             if done:
@@ -259,7 +274,7 @@ class Runner:
             with interrupts.shielded():
                 S = scene.arrays()
                 C = CONTACTS.to_record(scene.contacts)
-                plan.run_steps(0, item, S, C, PP, np.inf, _NONE, _NONE, timing, times)
+                plan.run_steps(0, item, S, C, PP, np.inf, _NONE, _NONE, timing, times, serial=self.serial())
                 scene.contacts = CONTACTS.from_record(C)
             self.sync_counters(plan, times)
             if scene.contacts.ctr[C_STATUS]:
