@@ -45,6 +45,12 @@ CHUNK_SECONDS = 0.25
 #: a run that finds the body count changed by this much first gives the freed heap back (granum.core.heap)
 TRIM_BODIES = 10_000
 _NONE = np.zeros(0)  # no engine with a period in simulated time
+#: Scenes with fewer bodies than this run the serial step loop (:meth:`Runner.serial`) on several threads: even
+#: densely packed (coordination 12: 6 contact rows a sphere) with a wall each they stay below the kernels'
+#: parallel thresholds (64 x 7 = 448 rows < PARALLEL_THRESHOLD_CONTACTS), so that a scene rarely compiles both
+#: loops. Larger ones, which start a run with no contacts, would run serially only until their contacts form,
+#: and compile both.
+SERIAL_LOOP_BODIES = 64
 
 
 class SimulationError(RuntimeError):
@@ -177,14 +183,15 @@ class Runner:
 
     def serial(self) -> bool:
         """Whether the next chunk of steps runs the stages' serial variants (:func:`granum._jit.serial_variant`):
-        on one thread, or while the scene is below every kernel's size threshold for running in parallel
-        (bodies, potential pairs, contact rows). Those kernels then run serially anyway, so the results are the
-        same, and a small scene's first run compiles no parallel code. Chosen at each chunk (at most
-        :data:`CHUNK_SECONDS`): a scene that outgrows the thresholds during a run is back in parallel within one."""
+        on one thread, or in a scene small enough to stay below every kernel's size threshold for running in
+        parallel (fewer than :data:`SERIAL_LOOP_BODIES` bodies, and the potential pairs and contact rows below
+        their thresholds). Those kernels then run serially anyway, so the results are the same, and a small
+        scene's first run compiles no parallel code. Chosen at each chunk (at most :data:`CHUNK_SECONDS`): a
+        scene that outgrows the thresholds during a run is back in parallel within one."""
         if numba.get_num_threads() == 1:
             return True
         ctr = self.scene.contacts.ctr
-        return bool(self.scene.body_count < PARALLEL_THRESHOLD and ctr[C_PAIRS] < PARALLEL_THRESHOLD
+        return bool(self.scene.body_count < SERIAL_LOOP_BODIES and ctr[C_PAIRS] < PARALLEL_THRESHOLD
                     and ctr[C_CONTACTS] < PARALLEL_THRESHOLD_CONTACTS)
 
     def steps_allowed(self, plan: Plan, limit: int) -> int:
