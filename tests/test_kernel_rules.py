@@ -148,3 +148,43 @@ def test_the_serial_variants_of_the_stages_reach_no_parallel_code():
     assert not still, f"serial variants that reach parallel code: {still}"
     assert serial_variant(stages["granum.kernels.fields:axial_gravity_stage"]) is (
         stages["granum.kernels.fields:axial_gravity_stage"]), "a stage without parallel code is its own variant"
+
+
+def test_small_scenes_and_single_threads_run_the_serial_step_loop(yade):
+    """The runner gives the serial step loop to a scene under SERIAL_LOOP_BODIES bodies on two threads and to any
+    scene on one thread, and the parallel loop to a larger scene on two threads; every run reaches the same
+    state whichever loop it takes."""
+    import numba
+    import numpy as np
+    from conftest import frict_engines
+
+    from granum.engines.runner import SERIAL_LOOP_BODIES
+
+    y = yade
+    if numba.config.NUMBA_NUM_THREADS < 2:
+        import pytest
+
+        pytest.skip("Numba has one thread here")
+
+    def run(n, threads):
+        y.O.reset()
+        y.O.bodies.append([y.sphere((0.0, 0.0, 0.99 * k), 0.5) for k in range(n)])
+        y.O.bodies[0].state.blockedDOFs = "xyzXYZ"
+        y.O.engines = frict_engines(y, gravity=(0, 0, -9.81), damping=0.2)
+        y.O.dt = 1e-5
+        saved = numba.get_num_threads()
+        numba.set_num_threads(threads)
+        try:
+            y.O.run(20, True)
+        finally:
+            numba.set_num_threads(saved)
+        loops = {serial for _, serial in y.O._runner.plan()._loops}
+        return loops, y.O._scene.bodies.pos[:n].copy()
+
+    small = SERIAL_LOOP_BODIES // 2
+    assert run(small, 2)[0] == {True}
+    assert run(SERIAL_LOOP_BODIES, 2)[0] == {False}
+    serial_loops, serial_pos = run(SERIAL_LOOP_BODIES, 1)
+    assert serial_loops == {True}
+    assert (serial_pos == run(SERIAL_LOOP_BODIES, 2)[1]).all()
+    assert (serial_pos[:, 2] != 0.99 * np.arange(SERIAL_LOOP_BODIES)).any(), "nothing moved"
