@@ -152,8 +152,10 @@ def test_the_serial_variants_of_the_stages_reach_no_parallel_code():
 
 def test_small_scenes_and_single_threads_run_the_serial_step_loop(yade):
     """The runner gives the serial step loop to a scene under SERIAL_LOOP_BODIES bodies on two threads and to any
-    scene on one thread, and the parallel loop to a larger scene on two threads; every run reaches the same
-    state whichever loop it takes."""
+    scene on one thread, and the parallel loop to a larger scene or one with a factory on two threads; every run
+    reaches the same state whichever loop it takes."""
+    import types
+
     import numba
     import numpy as np
     from conftest import frict_engines
@@ -188,3 +190,11 @@ def test_small_scenes_and_single_threads_run_the_serial_step_loop(yade):
     assert serial_loops == {True}
     assert (serial_pos == run(SERIAL_LOOP_BODIES, 2)[1]).all()
     assert (serial_pos[:, 2] != 0.99 * np.arange(SERIAL_LOOP_BODIES)).any(), "nothing moved"
+    run(small, 2)
+    saved = numba.get_num_threads()
+    numba.set_num_threads(2)
+    try:
+        assert y.O._runner.serial(y.O._runner.plan())
+        assert not y.O._runner.serial(types.SimpleNamespace(compiled=[y.CircularFactory()])), "a factory adds bodies"
+    finally:
+        numba.set_num_threads(saved)

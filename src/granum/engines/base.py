@@ -30,6 +30,9 @@ class Engine(Attributed):
 
     #: ``"module:function"`` of the compiled stage, or None for an engine run in Python.
     stage: str | None = None
+    #: Whether the engine adds bodies as the run goes (a factory): on several threads its plans get the parallel
+    #: step loop from the start, however small the scene (:meth:`granum.engines.runner.Runner.serial`).
+    adds_bodies: bool = False
 
     #: position + 1 of a compiled engine in the current plan (set by the runner)
     _plan_index = 0

@@ -64,6 +64,7 @@ class SpheresFactory(GlobalEngine):
     BoxFactory); see the module's docstring and :mod:`granum.kernels.factory`."""
 
     stage = "granum.kernels.factory:factory_stage"
+    adds_bodies = True
     _attrs = {
         "massFlowRate": Attr(math.nan, "Mass flow rate [kg/s]", to_float("massFlowRate")),
         "rMin": Attr(math.nan, "Smallest radius (uniform distribution) [m]", to_float("rMin")),

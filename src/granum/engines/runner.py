@@ -181,15 +181,18 @@ class Runner:
             raise SimulationError(f"body {i} has mass {b.mass[i]} but free translational DOFs; "
                                   f"give it a positive mass (density) or block its DOFs (fixed=True)")
 
-    def serial(self) -> bool:
-        """Whether the next chunk of steps runs the stages' serial variants (:func:`granum._jit.serial_variant`):
-        on one thread, or in a scene small enough to stay below every kernel's size threshold for running in
-        parallel (fewer than :data:`SERIAL_LOOP_BODIES` bodies, and the potential pairs and contact rows below
-        their thresholds). Those kernels then run serially anyway, so the results are the same, and a small
-        scene's first run compiles no parallel code. Chosen at each chunk (at most :data:`CHUNK_SECONDS`): a
-        scene that outgrows the thresholds during a run is back in parallel within one."""
+    def serial(self, plan: Plan) -> bool:
+        """Whether the next chunk of steps of ``plan`` runs the stages' serial variants
+        (:func:`granum._jit.serial_variant`): on one thread, or in a scene small enough to stay below every
+        kernel's size threshold for running in parallel (fewer than :data:`SERIAL_LOOP_BODIES` bodies, and the
+        potential pairs and contact rows below their thresholds) with no engine that adds bodies. Those kernels
+        then run serially anyway, so the results are the same, and a small scene's first run compiles no
+        parallel code. Chosen at each chunk (at most :data:`CHUNK_SECONDS`): a scene that outgrows the
+        thresholds during a run is back in parallel within one (and has compiled both loops)."""
         if numba.get_num_threads() == 1:
             return True
+        if any(e.adds_bodies for e in plan.compiled):
+            return False
         ctr = self.scene.contacts.ctr
         return bool(self.scene.body_count < SERIAL_LOOP_BODIES and ctr[C_PAIRS] < PARALLEL_THRESHOLD
                     and ctr[C_CONTACTS] < PARALLEL_THRESHOLD_CONTACTS)
@@ -230,7 +233,7 @@ class Runner:
                 S = scene.arrays()
                 C = CONTACTS.to_record(scene.contacts)
                 done, why = plan.run_steps(m, -1, S, C, PP, float(stop_time), virt_last, virt_period, timing,
-                                           times, serial=self.serial())
+                                           times, serial=self.serial(plan))
                 scene.contacts = CONTACTS.from_record(C)
             self.sync_counters(plan, times)
             if done:
@@ -281,7 +284,7 @@ class Runner:
             with interrupts.shielded():
                 S = scene.arrays()
                 C = CONTACTS.to_record(scene.contacts)
-                plan.run_steps(0, item, S, C, PP, np.inf, _NONE, _NONE, timing, times, serial=self.serial())
+                plan.run_steps(0, item, S, C, PP, np.inf, _NONE, _NONE, timing, times, serial=self.serial(plan))
                 scene.contacts = CONTACTS.from_record(C)
             self.sync_counters(plan, times)
             if scene.contacts.ctr[C_STATUS]:
