@@ -125,13 +125,7 @@ def _reaches_parallel_code(fn, seen) -> bool:
     if getattr(fn, "targetoptions", {}).get("parallel"):
         return True
     py = fn.py_func if hasattr(fn, "py_func") else _jit._OVERLOADS[fn][0]
-    for name in _jit._global_names(py.__code__):
-        value = py.__globals__.get(name)
-        if (getattr(value, "py_func", None) is not None and value.py_func.__module__.startswith("granum")) or (
-                callable(value) and value in _jit._OVERLOADS):
-            if _reaches_parallel_code(value, seen):
-                return True
-    return False
+    return any(_reaches_parallel_code(value, seen) for _, value in _jit.granum_callees(py))
 
 
 def test_the_serial_variants_of_the_stages_reach_no_parallel_code():

@@ -35,8 +35,8 @@ for name, (kw, (psd_name, bins, mass)) in clouds.items():
         sp.makeCloud((0, 0, 0), (1, 1, 1), **kw)
         counts.append(len(sp))
         psds.append(list(sp.psd(bins=bins, mass=mass)[1]))
-    print(f'{name}: {draws} clouds, least {spread(counts)[0]}, median {spread(counts)[1]}, '
-          f'largest {spread(counts)[2]}')
+    least, median, largest = spread(counts)
+    print(f'{name}: {draws} clouds, least {least}, median {median}, largest {largest}')
     for k in range(len(psds[0])):
         least, median, largest = spread([p[k] for p in psds])
         print(f'  {psd_name}[{k}]: least {least:.4f}, median {median:.4f}, largest {largest:.4f}')

@@ -46,6 +46,11 @@ def processes() -> int:
     return min(2, len(os.sched_getaffinity(0)))
 
 
+def is_granum_dispatcher(value) -> bool:
+    """Whether ``value`` is a compiled granum function (a dispatcher of a function in a granum module)."""
+    return getattr(value, "py_func", None) is not None and value.py_func.__module__.startswith("granum")
+
+
 def reach(dispatcher, seen: set | None = None) -> int:
     """How many granum functions ``dispatcher`` reaches through its globals: how much compiling it costs."""
     seen = set() if seen is None else seen
@@ -56,7 +61,7 @@ def reach(dispatcher, seen: set | None = None) -> int:
     total = 1
     for name in func.__code__.co_names:
         value = func.__globals__.get(name)
-        if getattr(value, "py_func", None) is not None and value.py_func.__module__.startswith("granum"):
+        if is_granum_dispatcher(value):
             total += reach(value, seen)
     return total
 

@@ -294,17 +294,20 @@ def _serial_globals(fn) -> dict:
     """The globals of Python function ``fn`` (its nested functions included) that have serial variants, name ->
     variant (:func:`serial_variant`)."""
     replaced = {}
-    for name in _global_names(fn.__code__):
-        value = fn.__globals__.get(name)
-        if getattr(value, "py_func", None) is not None and value.py_func.__module__.startswith("granum"):
-            variant = serial_variant(value)
-        elif callable(value) and value in _OVERLOADS:
-            variant = _serial_overload(value)
-        else:
-            continue
+    for name, value in granum_callees(fn):
+        variant = serial_variant(value) if _compile.is_granum_dispatcher(value) else _serial_overload(value)
         if variant is not value:
             replaced[name] = variant
     return replaced
+
+
+def granum_callees(fn):
+    """``(name, value)`` of the globals Python function ``fn`` (its nested functions included) reads that are
+    granum's compiled functions or overloaded functions (:func:`overload`)."""
+    for name in _global_names(fn.__code__):
+        value = fn.__globals__.get(name)
+        if _compile.is_granum_dispatcher(value) or (callable(value) and value in _OVERLOADS):
+            yield name, value
 
 
 def _global_names(code) -> set[str]:
