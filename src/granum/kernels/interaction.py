@@ -13,9 +13,7 @@ Each step:
 4. Contacts ended by their law are unlinked from their pair by the block that updated
    them; the per-body contact index (CSR) is rebuilt when the contact set changed.
 5. Forces and torques are gathered per body through the CSR index, in increasing
-   contact order: the sums are the same whatever the number of threads. An update that
-   runs on one thread (the serial variant of its kernel) adds them to the bodies as it
-   goes instead, in the same order, and no gather runs.
+   contact order: the sums are the same whatever the number of threads.
 """
 
 from __future__ import annotations
@@ -77,7 +75,7 @@ from granum.kernels.collider import body_displacement, body_reach
 from granum.kernels.copy import copy_rows
 from granum.kernels.dispatch import functors, geom_call, law_call, phys_call
 from granum.kernels.prefetch import prefetch_row
-from granum.kernels.schedule import IN_PARALLEL, block_queue, next_block, queue_workers, thread_count
+from granum.kernels.schedule import block_queue, next_block, queue_workers, thread_count
 from granum.kernels.scratch import area, rows_of, take_f8, take_i4, take_i8, words_i4
 from granum.kernels.sorting import argsort_keys
 from granum.kernels.static import static_value
@@ -521,10 +519,8 @@ def contact_physics(c, id1, id2, S, C, phys_tab):
 
 
 @jit(inline="always")  # once per contact: no call (see granum.kernels.dispatch)
-def update_contact(c, S, C, geom_tab, phys_tab, law_tab, died, gathers):
-    """Geometry, physics (new contacts) and law of contact ``c``; flags its block in ``died`` if it ends. With
-    ``gathers`` (contacts updated in order, on one thread), its force and torque are added to its bodies too
-    (:func:`add_contact_loads`)."""
+def update_contact(c, S, C, geom_tab, phys_tab, law_tab, died):
+    """Geometry, physics (new contacts) and law of contact ``c``; flags its block in ``died`` if it ends."""
     flags = C.con_i[c, I_FLAGS]
     if not flags & FLAG_ALIVE:
         return
@@ -539,37 +535,26 @@ def update_contact(c, S, C, geom_tab, phys_tab, law_tab, died, gathers):
     if not law_call(law, c, id1, id2, S, C, law_tab):
         C.con_i[c, I_FLAGS] &= ~FLAG_ALIVE
         died[c // BLOCK] = 1
-    elif gathers:
-        add_contact_loads(c, id1, id2, S, C, law_tab[0])
 
 
 @jit
-def update_block(b, S, C, geom_tab, phys_tab, law_tab, died, law_totals, totals, gathers):
+def update_block(b, S, C, geom_tab, phys_tab, law_tab, died, law_totals, totals):
     """Contacts of block ``b``, then those of them that ended unlinked (:func:`unlink_block`); the arrays are
-    borrowed (no reference counting per contact: see ARCHITECTURE.md, "Kernel records"). ``gathers``: see
-    :func:`update_contact`."""
+    borrowed (no reference counting per contact: see ARCHITECTURE.md, "Kernel records")."""
     geom_tab, phys_tab, law_tab, died = borrow((geom_tab, phys_tab, law_tab, died))
     for c in range(b * BLOCK, min(C.ctr[C_CONTACTS], (b + 1) * BLOCK)):
-        update_contact(c, S, C, geom_tab, phys_tab, law_tab, died, gathers)
+        update_contact(c, S, C, geom_tab, phys_tab, law_tab, died)
     if died[b] != 0:
         unlink_block(b, C, died, law_totals, totals)
 
 
 def _update(S, C, geom_tab, phys_tab, law_tab, died, law_totals, totals):
-    """Update the contacts (:func:`update_block`); whether the forces were gathered as well. The serial variant
-    takes the contacts in order on one thread, so it adds each contact's force and torque to its two bodies as
-    it goes: every body then receives its contacts' terms in increasing contact order, the order of the gather
-    (:func:`gather_body`), and the sums are the same bits. Contacts that end here add nothing, as in the gather,
-    which runs after they are unlinked. Blocks run at once would add to a body together: the parallel variant
-    leaves the forces to the gather."""
-    gathers = not IN_PARALLEL
     queue = block_queue(died.shape[0])
     for w in prange(queue_workers(queue)):
         b = next_block(queue, w, -1)
         while b >= 0:
-            update_block(b, S, C, geom_tab, phys_tab, law_tab, died, law_totals, totals, gathers)
+            update_block(b, S, C, geom_tab, phys_tab, law_tab, died, law_totals, totals)
             b = next_block(queue, w, b)
-    return gathers
 
 
 update, update_par = kernel(_update)
@@ -729,46 +714,6 @@ def _plan_moments(laws):
     return lambda laws: False
 
 
-@jit(inline="always")  # per contact and body: no call
-def contact_load(c, x, second, S, C, laws):
-    """The force [N] and torque [N m] (two 3-tuples) that contact ``c`` exerts on its body 1 (``second`` False) or
-    body 2, whose centre is ``x`` [m]: the law's normal and shear forces, the torque of their lever arm, and the
-    contact's moment when a law of the functor set ``laws`` writes moments (:func:`plan_moments`). The one
-    computation of both the force gather and the serial contact update."""
-    f = add(load3_row(C.con_f, c, F_FN), load3_row(C.con_f, c, F_FS))  # force on body 2
-    if C.con_i[c, I_FLAGS] & FLAG_RADIAL_ARMS:
-        # YADE's sphericalBodies: lever arm (R_i - delta/2) along the normal
-        half = 0.5 * C.con_f[c, F_PEN]
-        arm_len = half - C.con_f[c, F_R2] if second else C.con_f[c, F_R1] - half
-        arm = scale(load3_row(C.con_f, c, F_NORMAL), arm_len)
-    elif second:
-        shift, _ = contact_shift(c, S, C)
-        arm = sub(load3_row(C.con_f, c, F_POINT), add(x, shift))
-    else:
-        arm = sub(load3_row(C.con_f, c, F_POINT), x)
-    if not second:
-        f = (-f[0], -f[1], -f[2])
-    t = cross(arm, f)
-    if plan_moments(laws):
-        m = load3_row(C.con_f, c, F_MOMENT)
-        t = add(t, m) if second else sub(t, m)
-    return f, t
-
-
-@jit(inline="always")  # per contact: no call
-def add_contact_loads(c, id1, id2, S, C, laws):
-    """Add contact ``c``'s force and torque to its bodies ``id1`` and ``id2`` (:func:`contact_load`), both
-    computed before either is stored."""
-    f1, t1 = contact_load(c, load3(S.pos, id1), False, S, C, laws)
-    f2, t2 = contact_load(c, load3(S.pos, id2), True, S, C, laws)
-    for k in range(3):
-        S.force[id1, k] += f1[k]
-        S.torque[id1, k] += t1[k]
-    for k in range(3):
-        S.force[id2, k] += f2[k]
-        S.torque[id2, k] += t2[k]
-
-
 @jit
 def gather_body(i, S, C, laws):
     """Add the forces and torques of body ``i``'s contacts to it, in increasing contact order; when a law of
@@ -787,7 +732,24 @@ def gather_body(i, S, C, laws):
     xi = load3(S.pos, i)
     for k in range(a, b):
         c = C.csr_con[k]
-        f, t = contact_load(c, xi, C.con_i[c, I_ID2] == i, S, C, laws)
+        f = add(load3_row(C.con_f, c, F_FN), load3_row(C.con_f, c, F_FS))  # force on body 2
+        second = C.con_i[c, I_ID2] == i
+        if C.con_i[c, I_FLAGS] & FLAG_RADIAL_ARMS:
+            # YADE's sphericalBodies: lever arm (R_i - delta/2) along the normal
+            half = 0.5 * C.con_f[c, F_PEN]
+            arm_len = half - C.con_f[c, F_R2] if second else C.con_f[c, F_R1] - half
+            arm = scale(load3_row(C.con_f, c, F_NORMAL), arm_len)
+        elif second:
+            shift, _ = contact_shift(c, S, C)
+            arm = sub(load3_row(C.con_f, c, F_POINT), add(xi, shift))
+        else:
+            arm = sub(load3_row(C.con_f, c, F_POINT), xi)
+        if not second:
+            f = (-f[0], -f[1], -f[2])
+        t = cross(arm, f)
+        if plan_moments(laws):
+            m = load3_row(C.con_f, c, F_MOMENT)
+            t = add(t, m) if second else sub(t, m)
         fx += f[0]
         fy += f[1]
         fz += f[2]
@@ -922,21 +884,19 @@ def interaction_stage(S, C, P):
     totals = rows_of(totals, nended)
     totals[:] = 0.0
     if n < PARALLEL_THRESHOLD_CONTACTS:
-        gathered = update(R, V, geom_tab, phys_tab, law_tab, died, P.law_totals, totals)
+        update(R, V, geom_tab, phys_tab, law_tab, died, P.law_totals, totals)
     else:
-        gathered = update_par(R, V, geom_tab, phys_tab, law_tab, died, P.law_totals, totals)
+        update_par(R, V, geom_tab, phys_tab, law_tab, died, P.law_totals, totals)
     count_dead(V, died, totals)
     if V.ctr[C_CSR_DIRTY]:
         if 4 * V.ctr[C_DEAD] > V.ctr[C_CONTACTS]:
             compact(V)
         build_csr(V, nb)
-    if not gathered:
-        # a pool that caches cannot hold is read from memory: prefetch (in cache, it would only cost instructions)
-        big = V.ctr[C_CONTACTS] * V.con_f.shape[1] * V.con_f.itemsize >= GATHER_PREFETCH_BYTES
-        ahead = GATHER_AHEAD if big else 0
-        if nb < PARALLEL_THRESHOLD:
-            gather(R, V, nb, ahead, law_tab[0])
-        else:
-            gather_par(R, V, nb, ahead, law_tab[0])
+    # a pool that caches cannot hold is read from memory: prefetch (in cache, it would only cost instructions)
+    ahead = GATHER_AHEAD if V.ctr[C_CONTACTS] * V.con_f.shape[1] * V.con_f.itemsize >= GATHER_PREFETCH_BYTES else 0
+    if nb < PARALLEL_THRESHOLD:
+        gather(R, V, nb, ahead, law_tab[0])
+    else:
+        gather_par(R, V, nb, ahead, law_tab[0])
     if S.iscal[SI_TRACK_ENERGY]:
         contact_energy(R, V)

@@ -23,8 +23,8 @@ A kernel loops like this::
             b = next_block(queue, w, b)
 
 The serial variant of a kernel (:func:`granum._jit.kernel`) reads these three names as the
-``serial_*`` functions below, and ``IN_PARALLEL`` as False: one worker counts the blocks up, with no queue to
-allocate and no atomic operation (a step of a two-body scene runs about ten such loops: with queues, the bouncing
+``serial_*`` functions below: one worker counts the blocks up, with no queue to allocate and no
+atomic operation (a step of a two-body scene runs about ten such loops: with queues, the bouncing
 sphere ran at 6.8-7.2e5 steps/s instead of 9.8-10.9e5).
 With ``GRANUM_NOPAR=1`` the parallel variants run the queue on one thread, which takes every block in
 order.
@@ -123,10 +123,5 @@ def serial_next_block(queue, w, b):
     return b + 1 if b + 1 < queue else -1
 
 
-#: True in the parallel variant of a kernel and False in its serial variant, a constant of the compiled code: the
-#: serial variant may do what blocks run at once may not (the contact update adds each contact's force to its two
-#: bodies as it goes, :func:`granum.kernels.interaction.update_block`).
-IN_PARALLEL = True
-
 SERIAL_GLOBALS.update(block_queue=serial_block_queue, queue_workers=serial_queue_workers,
-                      next_block=serial_next_block, IN_PARALLEL=False)
+                      next_block=serial_next_block)
