@@ -114,47 +114,60 @@ def _compiled_stages():
     return {ref: getattr(importlib.import_module(ref.split(":")[0]), ref.split(":")[1]) for ref in refs}
 
 
-def _reaches_parallel_code(fn, seen) -> bool:
-    """Whether granum function ``fn`` (a dispatcher or an overloaded function) reaches a parallel dispatcher
-    through its globals, those of the functions nested in it and those of granum's overloads."""
+def _parallel_reached(fn, seen) -> set[str]:
+    """The items (``kernel``'s ``over``) of the parallel kernels that granum function ``fn`` (a dispatcher or an
+    overloaded function) reaches through its globals, those of the functions nested in it and those of granum's
+    overloads."""
     from granum import _jit
 
     if id(fn) in seen:
-        return False
+        return set()
     seen.add(id(fn))
     if getattr(fn, "targetoptions", {}).get("parallel"):
-        return True
+        return {_jit._KERNELS[fn][1]}
     py = fn.py_func if hasattr(fn, "py_func") else _jit._OVERLOADS[fn][0]
-    return any(_reaches_parallel_code(value, seen) for _, value in _jit.granum_callees(py))
+    return set().union(*(_parallel_reached(value, seen) for _, value in _jit.granum_callees(py)))
 
 
-def test_the_serial_variants_of_the_stages_reach_no_parallel_code():
+def test_the_serial_variants_of_the_stages_reach_no_parallel_code_over_their_items():
     """A step loop of serial variants (small scenes, one thread) compiles no parallel kernel: not through a
-    stage's callees, nor through an overload (the collider's broad phase is chosen by one)."""
-    from granum._jit import serial_variant
+    stage's callees, nor through an overload (the collider's broad phase is chosen by one). The variants serial
+    over bodies (scenes under the kernels' threshold) compile no parallel kernel over bodies, and still the
+    others: the interaction loop's parallel contact update and detection."""
+    from granum._jit import ITEMS, serial_variant
 
     stages = _compiled_stages()
     assert len(stages) >= 15, "the engines' stages were not found"
-    parallel = [ref for ref, fn in stages.items() if _reaches_parallel_code(fn, set())]
-    assert {"granum.kernels.collider:collider_stage", "granum.kernels.interaction:interaction_stage",
-            "granum.kernels.newton:newton_stage"} <= set(parallel)
-    still = [ref for ref, fn in stages.items() if _reaches_parallel_code(serial_variant(fn), set())]
+    parallel = {ref: _parallel_reached(fn, set()) for ref, fn in stages.items()}
+    assert parallel["granum.kernels.interaction:interaction_stage"] == {"bodies", "pairs", "contacts"}
+    assert parallel["granum.kernels.collider:collider_stage"] == {"bodies", "contacts"}
+    assert parallel["granum.kernels.newton:newton_stage"] == {"bodies"}
+    still = [ref for ref, fn in stages.items() if _parallel_reached(serial_variant(fn), set())]
     assert not still, f"serial variants that reach parallel code: {still}"
+    interaction = stages["granum.kernels.interaction:interaction_stage"]
+    assert serial_variant(interaction) is serial_variant(interaction, ITEMS)
+    bodies = {ref: _parallel_reached(serial_variant(fn, {"bodies"}), set()) for ref, fn in stages.items()}
+    assert bodies == {ref: items - {"bodies"} for ref, items in parallel.items()}
+    assert bodies["granum.kernels.interaction:interaction_stage"] == {"pairs", "contacts"}
+    assert serial_variant(stages["granum.kernels.newton:newton_stage"], {"contacts"}) is (
+        stages["granum.kernels.newton:newton_stage"]), "a stage without parallel code over the items is its own"
     assert serial_variant(stages["granum.kernels.fields:axial_gravity_stage"]) is (
         stages["granum.kernels.fields:axial_gravity_stage"]), "a stage without parallel code is its own variant"
 
 
 def test_small_scenes_and_single_threads_run_the_serial_step_loop(yade):
     """The runner gives the serial step loop to a scene under SERIAL_LOOP_BODIES bodies on two threads and to any
-    scene on one thread, and the parallel loop to a larger scene or one with a factory on two threads; every run
-    reaches the same state whichever loop it takes."""
+    scene on one thread, the loop serial over bodies to a larger scene under the kernels' threshold, and the
+    parallel loop to a scene beyond it or one with a factory on two threads; every run reaches the same state
+    whichever loop it takes."""
     import types
 
     import numba
     import numpy as np
     from conftest import frict_engines
 
-    from granum.engines.runner import SERIAL_LOOP_BODIES
+    from granum._jit import PARALLEL_THRESHOLD
+    from granum.engines.runner import ALL_SERIAL, BODIES_SERIAL, SERIAL_LOOP_BODIES, Runner
 
     y = yade
     if numba.config.NUMBA_NUM_THREADS < 2:
@@ -178,17 +191,23 @@ def test_small_scenes_and_single_threads_run_the_serial_step_loop(yade):
         return loops, y.O._scene.bodies.pos[:n].copy()
 
     small = SERIAL_LOOP_BODIES // 2
-    assert run(small, 2)[0] == {True}
-    assert run(SERIAL_LOOP_BODIES, 2)[0] == {False}
+    assert run(small, 2)[0] == {ALL_SERIAL}
+    assert run(SERIAL_LOOP_BODIES, 2)[0] == {BODIES_SERIAL}
     serial_loops, serial_pos = run(SERIAL_LOOP_BODIES, 1)
-    assert serial_loops == {True}
+    assert serial_loops == {ALL_SERIAL}
     assert (serial_pos == run(SERIAL_LOOP_BODIES, 2)[1]).all()
     assert (serial_pos[:, 2] != 0.99 * np.arange(SERIAL_LOOP_BODIES)).any(), "nothing moved"
     run(small, 2)
     saved = numba.get_num_threads()
     numba.set_num_threads(2)
     try:
-        assert y.O._runner.serial(y.O._runner.plan())
-        assert not y.O._runner.serial(types.SimpleNamespace(compiled=[y.CircularFactory()])), "a factory adds bodies"
+        runner, plan = y.O._runner, y.O._runner.plan()
+        assert runner.serial(plan) == ALL_SERIAL
+        assert runner.serial(types.SimpleNamespace(compiled=[y.CircularFactory()])) == frozenset(), \
+            "a factory adds bodies"
+        scene = types.SimpleNamespace(contacts=runner.scene.contacts)
+        for bodies, loop in ((PARALLEL_THRESHOLD - 1, BODIES_SERIAL), (PARALLEL_THRESHOLD, frozenset())):
+            scene.body_count = bodies
+            assert Runner.serial(types.SimpleNamespace(scene=scene), plan) == loop, bodies
     finally:
         numba.set_num_threads(saved)

@@ -232,16 +232,22 @@ def _renamed_copy(fn, replaced: dict, suffix: str):
     return copy
 
 
-#: Serial variants (:func:`serial_variant`), granum function -> its variant (itself when it reaches no parallel
-#: kernel); :func:`kernel` enters the serial dispatcher of each parallel one it makes.
-_SERIAL_OF: dict = {}
+#: What a kernel's items are (:func:`kernel`'s ``over``): its callers run it in parallel once those items reach
+#: their threshold (the scene's bodies, its potential pairs, its contact rows; iDEM's particles).
+ITEMS = frozenset({"bodies", "pairs", "contacts", "particles"})
+#: The serial dispatcher and the items of each parallel one that :func:`kernel` makes.
+_KERNELS: dict = {}
+#: Variants made by :func:`serial_variant`, (granum function, items) -> the variant (the function itself when it
+#: reaches no parallel kernel over those items).
+_VARIANTS: dict = {}
 #: Held while variants are made (a re-entrant lock: a variant's callees are made first), so that two threads never
 #: make two copies of one function, which would share its cache files.
 _MAKING_VARIANTS = threading.RLock()
 
 
-def kernel(fn):
-    """Compile ``fn`` (which loops with ``prange``) serially and in parallel.
+def kernel(fn, over: str):
+    """Compile ``fn`` (which loops with ``prange``) serially and in parallel; ``over``: what its items are (one
+    of :data:`ITEMS`, the count its callers compare with their threshold).
 
     Returns ``(serial, parallel)`` dispatchers. Both compute identical results as
     long as every item (a block, where the loop takes blocks from a queue) writes only
@@ -250,52 +256,72 @@ def kernel(fn):
     The serial variant is a copy of ``fn`` that sees the names of ``SERIAL_GLOBALS``
     replaced, and the other globals of its module as they are when ``kernel`` is called.
     """
+    if over not in ITEMS:
+        raise ValueError(f"kernel {fn.__qualname__}: over must be one of {sorted(ITEMS)}, not {over!r}")
     serial = jit(_renamed_copy(fn, SERIAL_GLOBALS, ""))
     parallel = jit(_renamed_copy(fn, {}, "_parallel"), parallel=not SERIAL_ONLY)
-    _SERIAL_OF[parallel] = serial
+    _KERNELS[parallel] = serial, over
     return serial, parallel
 
 
-def serial_variant(dispatcher):
-    """``dispatcher`` (a granum function) compiled to call the serial variant of every :func:`kernel` it reaches
-    through its globals and granum's overloads: itself when it reaches none, else a renamed copy (made once).
+def serial_variant(dispatcher, over: frozenset = ITEMS):
+    """``dispatcher`` (a granum function) compiled to call the serial variant of every :func:`kernel` over the
+    items ``over`` that it reaches through its globals and granum's overloads: itself when it reaches none, else a
+    renamed copy (made once).
 
-    A step loop made of such variants compiles no parallel code (``examples/bouncing_sphere.py``'s first run on
-    one process: 37 s of compiling before, 30 s with them) and computes what the stages compute, bit for bit: it
-    only runs, in every kernel, the variant that the stages pick below their size thresholds. The runner uses it
-    for small scenes and for runs on one thread (:meth:`granum.engines.runner.Runner.serial`)."""
+    A step loop made of such variants compiles no parallel code over those items (``examples/bouncing_sphere.py``'s
+    first run on one process, all items serial: 37 s of compiling before, 30 s with them) and computes what the
+    stages compute, bit for bit: it only runs, in those kernels, the variant that the stages pick below their
+    size thresholds. The runner uses it when the scene is below those thresholds, or runs on one thread
+    (:meth:`granum.engines.runner.Runner.serial`)."""
+    over = frozenset(over)
     with _MAKING_VARIANTS:
-        if dispatcher not in _SERIAL_OF:
-            _SERIAL_OF[dispatcher] = dispatcher  # while its callees are looked at (a recursive function calls itself)
-            replaced = _serial_globals(dispatcher.py_func)
+        key = dispatcher, over
+        if key not in _VARIANTS:
+            if dispatcher in _KERNELS:
+                serial, items = _KERNELS[dispatcher]
+                _VARIANTS[key] = serial if items in over else dispatcher
+                return _VARIANTS[key]
+            _VARIANTS[key] = dispatcher  # while its callees are looked at (a recursive function calls itself)
+            replaced = _serial_globals(dispatcher.py_func, over)
             if replaced:
                 options = {k: v for k, v in dispatcher.targetoptions.items() if k != "nopython"}
-                _SERIAL_OF[dispatcher] = jit(_renamed_copy(dispatcher.py_func, replaced, "_serial"), **options)
-        return _SERIAL_OF[dispatcher]
+                copy = _renamed_copy(dispatcher.py_func, replaced, _variant_suffix(over))
+                _VARIANTS[key] = jit(copy, **options)
+        return _VARIANTS[key]
 
 
-def _serial_overload(func):
-    """The overloaded function ``func`` (:func:`overload`) whose implementations call serial variants: itself
-    when they reach no :func:`kernel`, else a renamed copy overloaded by a copy of its typing function that sees
-    the serial variants (the implementations it defines inherit its globals)."""
+def _variant_suffix(over: frozenset) -> str:
+    """The name suffix of the variants over the items ``over`` (a cache file of their own)."""
+    return "_serial" if over == ITEMS else "_serial_" + "_".join(sorted(over))
+
+
+def _serial_overload(func, over: frozenset):
+    """The overloaded function ``func`` (:func:`overload`) whose implementations call the serial variants over the
+    items ``over``: itself when they reach no such :func:`kernel`, else a renamed copy overloaded by a copy of its
+    typing function that sees the variants (the implementations it defines inherit its globals)."""
     with _MAKING_VARIANTS:
-        if func not in _SERIAL_OF:
-            _SERIAL_OF[func] = func
+        key = func, over
+        if key not in _VARIANTS:
+            _VARIANTS[key] = func
             definition, options = _OVERLOADS[func]
-            replaced = _serial_globals(definition)
+            replaced = _serial_globals(definition, over)
             if replaced:
-                variant = _renamed_copy(func, {}, "_serial")
-                overload(variant, **options)(_renamed_copy(definition, replaced, "_serial"))
-                _SERIAL_OF[func] = variant
-        return _SERIAL_OF[func]
+                variant = _renamed_copy(func, {}, _variant_suffix(over))
+                overload(variant, **options)(_renamed_copy(definition, replaced, _variant_suffix(over)))
+                _VARIANTS[key] = variant
+        return _VARIANTS[key]
 
 
-def _serial_globals(fn) -> dict:
-    """The globals of Python function ``fn`` (its nested functions included) that have serial variants, name ->
-    variant (:func:`serial_variant`)."""
+def _serial_globals(fn, over: frozenset) -> dict:
+    """The globals of Python function ``fn`` (its nested functions included) that have serial variants over the
+    items ``over``, name -> variant (:func:`serial_variant`)."""
     replaced = {}
     for name, value in granum_callees(fn):
-        variant = serial_variant(value) if _compile.is_granum_dispatcher(value) else _serial_overload(value)
+        if _compile.is_granum_dispatcher(value):
+            variant = serial_variant(value, over)
+        else:
+            variant = _serial_overload(value, over)
         if variant is not value:
             replaced[name] = variant
     return replaced
@@ -382,4 +408,4 @@ def entry_points(calls) -> list[str]:
 
 
 __all__ = ["call", "compile_lock", "entry", "entry_points", "jit", "kernel", "njit", "overload", "prange", "BLOCK",
-           "PARALLEL_THRESHOLD", "CACHE_DIR", "PLAIN", "SOURCE_HASH", "serial_variant"]
+           "PARALLEL_THRESHOLD", "CACHE_DIR", "PLAIN", "SOURCE_HASH", "ITEMS", "serial_variant"]

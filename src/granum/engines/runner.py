@@ -19,7 +19,7 @@ import time
 import numba
 import numpy as np
 
-from granum._jit import PARALLEL_THRESHOLD, PARALLEL_THRESHOLD_CONTACTS, call
+from granum._jit import ITEMS, PARALLEL_THRESHOLD, PARALLEL_THRESHOLD_CONTACTS, call
 from granum.core import heap
 from granum.core.arrays import SI_HOOK
 from granum.core.contacts import (
@@ -51,6 +51,11 @@ _NONE = np.zeros(0)  # no engine with a period in simulated time
 #: loops. Larger ones, which start a run with no contacts, would run serially only until their contacts form,
 #: and compile both.
 SERIAL_LOOP_BODIES = 64
+#: Every kernel serial: the step loop of one thread and of small scenes.
+ALL_SERIAL = ITEMS
+#: The kernels over bodies serial: the step loop of scenes with fewer bodies than the kernels' threshold, whose
+#: body count changes only when a script edits the scene.
+BODIES_SERIAL = frozenset({"bodies"})
 
 
 class SimulationError(RuntimeError):
@@ -88,9 +93,10 @@ class Plan:
         self.key = plan_key(engines)
         self._loops: dict = {}
 
-    def run_steps(self, *args, serial: bool = False):
-        """Run the compiled step loop ``run_steps(*args)`` (see :mod:`granum.kernels.steploop`); with ``serial``,
-        the loop of the stages' serial variants (:meth:`Runner.serial`).
+    def run_steps(self, *args, serial: frozenset = frozenset()):
+        """Run the compiled step loop ``run_steps(*args)`` (see :mod:`granum.kernels.steploop`); with ``serial``
+        (items, :data:`granum._jit.ITEMS`), the loop of the stages' variants serial over those items
+        (:meth:`Runner.serial`).
 
         The first time for the types of the scene, contacts and parameters, the functions the loop calls
         (the stages, the cell's step boundaries) are loaded from the disk cache or compiled, on two processes
@@ -181,21 +187,28 @@ class Runner:
             raise SimulationError(f"body {i} has mass {b.mass[i]} but free translational DOFs; "
                                   f"give it a positive mass (density) or block its DOFs (fixed=True)")
 
-    def serial(self, plan: Plan) -> bool:
-        """Whether the next chunk of steps of ``plan`` runs the stages' serial variants
-        (:func:`granum._jit.serial_variant`): on one thread, or in a scene small enough to stay below every
-        kernel's size threshold for running in parallel (fewer than :data:`SERIAL_LOOP_BODIES` bodies, and the
-        potential pairs and contact rows below their thresholds) with no engine that adds bodies. Those kernels
-        then run serially anyway, so the results are the same, and a small scene's first run compiles no
-        parallel code. Chosen at each chunk (at most :data:`CHUNK_SECONDS`): a scene that outgrows the
-        thresholds during a run is back in parallel within one (and has compiled both loops)."""
+    def serial(self, plan: Plan) -> frozenset:
+        """Over which items (:data:`granum._jit.ITEMS`) the next chunk of steps of ``plan`` runs the kernels'
+        serial variants (:func:`granum._jit.serial_variant`).
+
+        All (:data:`ALL_SERIAL`) on one thread, or in a scene small enough to stay below every kernel's size
+        threshold for running in parallel (fewer than :data:`SERIAL_LOOP_BODIES` bodies, and the potential pairs
+        and contact rows below their thresholds). The bodies (:data:`BODIES_SERIAL`) in a larger scene with fewer
+        bodies than :data:`granum._jit.PARALLEL_THRESHOLD`: its pairs and contacts may grow past theirs, its body
+        count does not. None with an engine that adds bodies. The kernels left serial then run serially anyway,
+        so the results are the same, and a first run compiles no parallel code over those items. Chosen at each
+        chunk (at most :data:`CHUNK_SECONDS`): a scene that outgrows the thresholds during a run is back in
+        parallel within one (and has compiled both loops)."""
         if numba.get_num_threads() == 1:
-            return True
+            return ALL_SERIAL
         if any(e.adds_bodies for e in plan.compiled):
-            return False
+            return frozenset()
         ctr = self.scene.contacts.ctr
-        return bool(self.scene.body_count < SERIAL_LOOP_BODIES and ctr[C_PAIRS] < PARALLEL_THRESHOLD
-                    and ctr[C_CONTACTS] < PARALLEL_THRESHOLD_CONTACTS)
+        bodies = self.scene.body_count
+        if (bodies < SERIAL_LOOP_BODIES and ctr[C_PAIRS] < PARALLEL_THRESHOLD
+                and ctr[C_CONTACTS] < PARALLEL_THRESHOLD_CONTACTS):
+            return ALL_SERIAL
+        return BODIES_SERIAL if bodies < PARALLEL_THRESHOLD else frozenset()
 
     def steps_allowed(self, plan: Plan, limit: int) -> int:
         """How many whole steps may run compiled before a Python engine could be due."""

@@ -208,7 +208,7 @@ def _within(xs, sb, sd, fixed, factor, dims, cell, order, table, count, part, di
         count[s] = n
 
 
-within_pairs, within_pairs_par = kernel(_within)
+within_pairs, within_pairs_par = kernel(_within, over="particles")
 
 
 @jit

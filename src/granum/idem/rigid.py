@@ -149,4 +149,4 @@ def _update_particles(pbody, pos, ori, r0, n0, x, nw):
             nw[i, k] = dot(row, n)
 
 
-update_particles, update_particles_par = kernel(_update_particles)
+update_particles, update_particles_par = kernel(_update_particles, over="particles")

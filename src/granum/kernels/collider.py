@@ -126,7 +126,7 @@ def _moved_blocks(S, nb, flags):
             b = next_block(queue, w, b)
 
 
-moved_blocks, moved_blocks_par = kernel(_moved_blocks)
+moved_blocks, moved_blocks_par = kernel(_moved_blocks, over="bodies")
 
 
 @jit
@@ -178,7 +178,7 @@ def _compute_bounds(S, nb, bound_code, bound_tab, verlet):
             b = next_block(queue, w, b)
 
 
-compute_bounds, compute_bounds_par = kernel(_compute_bounds)
+compute_bounds, compute_bounds_par = kernel(_compute_bounds, over="bodies")
 
 
 @jit(inline="always")  # per body or per candidate: no call
@@ -402,7 +402,7 @@ def _scratch_pass(S, nb, grid, avoid_self, count, scratch, width):
             b = next_block(queue, w, b)
 
 
-scratch_pass, scratch_pass_par = kernel(_scratch_pass)
+scratch_pass, scratch_pass_par = kernel(_scratch_pass, over="bodies")
 
 
 @jit
@@ -682,7 +682,7 @@ def _relink(C, pairs, start, cells, pair_con, pair_gap):
             b = next_block(queue, w, b)
 
 
-relink, relink_par = kernel(_relink)
+relink, relink_par = kernel(_relink, over="contacts")
 
 
 @jit

@@ -180,7 +180,7 @@ def _scratch_pass(S, nb, s, p, hw, cell, dims, order, start_cell, avoid_self, co
             b = next_block(queue, w, b)
 
 
-scratch_pass, scratch_pass_par = kernel(_scratch_pass)
+scratch_pass, scratch_pass_par = kernel(_scratch_pass, over="bodies")
 
 
 @jit

@@ -39,7 +39,7 @@ def _reset(S, nb):
             b = next_block(queue, w, b)
 
 
-reset, reset_par = kernel(_reset)
+reset, reset_par = kernel(_reset, over="bodies")
 
 
 @jit

@@ -245,7 +245,7 @@ def _detect(S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, bound, hits, 
             b = next_block(queue, w, b)
 
 
-detect, detect_par = kernel(_detect)
+detect, detect_par = kernel(_detect, over="pairs")
 
 
 @jit
@@ -283,7 +283,7 @@ def _body_motions(S, nb, motion, spread):
             b = next_block(queue, w, b)
 
 
-body_motions, body_motions_par = kernel(_body_motions)
+body_motions, body_motions_par = kernel(_body_motions, over="bodies")
 
 
 @jit
@@ -557,7 +557,7 @@ def _update(S, C, geom_tab, phys_tab, law_tab, died, law_totals, totals):
             b = next_block(queue, w, b)
 
 
-update, update_par = kernel(_update)
+update, update_par = kernel(_update, over="contacts")
 
 
 @jit
@@ -792,7 +792,7 @@ def _gather(S, C, nb, ahead, laws):
             b = next_block(queue, w, b)
 
 
-gather, gather_par = kernel(_gather)
+gather, gather_par = kernel(_gather, over="bodies")
 
 
 @jit

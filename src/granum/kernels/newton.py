@@ -319,7 +319,7 @@ def _newton_blocks(S, nb, gravity, damping, damp_gravity, mask, sums, bad):
             b = next_block(queue, w, b)
 
 
-newton_blocks, newton_blocks_par = kernel(_newton_blocks)
+newton_blocks, newton_blocks_par = kernel(_newton_blocks, over="bodies")
 
 
 class NewtonParams(NamedTuple):

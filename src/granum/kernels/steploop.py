@@ -59,20 +59,22 @@ from granum.kernels.clock import monotonic_ns
 '''
 
 
-def render(segments: list[list[str]], symbols: list[str], serial: bool = False) -> str:
+def render(segments: list[list[str]], symbols: list[str], serial: frozenset = frozenset()) -> str:
     """Source of the step-loop module for compiled stages grouped into ``segments``.
 
     ``segments[k]`` lists the ``"module:function"`` stage references of segment k. The stages
     and ``step_begin``/``step_end`` are called by symbol (:func:`granum._linking.entry_call`):
     ``symbols`` are those of their entry points, named in the source so that the module (and its
-    cached code) changes when one of them does. With ``serial``, the loop calls the stages' serial
-    variants (:func:`granum._jit.serial_variant`).
+    cached code) changes when one of them does. With ``serial`` (items, :data:`granum._jit.ITEMS`), the loop
+    calls the stages' variants whose kernels over those items are serial (:func:`granum._jit.serial_variant`).
     """
     refs = sorted({r for seg in segments for r in seg})
     alias = {r: f"stage_{k}" for k, r in enumerate(refs)}
     lines = [_HEADER] + [f"# calls {s}" for s in sorted(set(symbols))] + [import_line(r, alias[r]) for r in refs]
     if serial:
-        lines += ["from granum._jit import serial_variant"] + [f"{a} = serial_variant({a})" for a in alias.values()]
+        items = f"frozenset({sorted(serial)!r})"
+        lines += ["from granum._jit import serial_variant"] + [f"{a} = serial_variant({a}, {items})"
+                                                                for a in alias.values()]
 
     def calls(seg_index: int, first: int, indent: str, on_error: str) -> list[str]:
         out = []
@@ -119,23 +121,24 @@ def render(segments: list[list[str]], symbols: list[str], serial: bool = False) 
     return "\n".join(lines + body) + "\n"
 
 
-def load(segments: list[list[str]], symbols: list[str], serial: bool = False):
+def load(segments: list[list[str]], symbols: list[str], serial: frozenset = frozenset()):
     """The generated step-loop module for ``segments`` calling the entry points ``symbols`` (``serial``: those
-    of the stages' serial variants), compiled on first use, cached on disk."""
+    of the stages' variants serial over those items), compiled on first use, cached on disk."""
     return load_module("steploop", render(segments, symbols, serial))
 
 
-def loop(segments: list[list[str]], args: tuple, serial: bool = False):
+def loop(segments: list[list[str]], args: tuple, serial: frozenset = frozenset()):
     """The compiled stages ``segments`` (as in :func:`render`) as a function ``run_steps(*args)`` for arguments of
     the types of ``args`` (``run_steps``'s, see the module docstring): the generated loop's entry point, or a
     :class:`PlainLoop` on the plain compile path. The stages and ``step_begin``/``step_end`` are loaded from the
-    disk cache or compiled first (:func:`granum._jit.entry_points`). With ``serial``, their serial variants
-    (:func:`granum._jit.serial_variant`): the same results, without compiling any parallel code."""
+    disk cache or compiled first (:func:`granum._jit.entry_points`). With ``serial`` (items), their variants
+    serial over those items (:func:`granum._jit.serial_variant`): the same results, without compiling the
+    parallel kernels over them."""
     S, C, PP = args[2:5]
     refs = [ref for seg in segments for ref in seg]
     stages = [getattr(importlib.import_module(ref.split(":")[0]), ref.split(":")[1]) for ref in refs]
     if serial:
-        stages = [serial_variant(stage) for stage in stages]
+        stages = [serial_variant(stage, serial) for stage in stages]
     calls: dict = {step_begin: [(S,)], step_end: [(S,)]}
     for stage, P in zip(stages, PP, strict=True):
         calls.setdefault(stage, []).append((S, C, P))

@@ -175,7 +175,7 @@ def _steps(S, C, nb, safety, visc_el, viscel_phys, rot_columns, out):
             b = next_block(queue, w, b)
 
 
-steps, steps_par = kernel(_steps)
+steps, steps_par = kernel(_steps, over="bodies")
 
 
 @jit
