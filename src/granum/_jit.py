@@ -11,7 +11,8 @@
   parallelism. Callers pick the variant by problem size, and both give the same bits,
   so results are bitwise independent of the number of threads. A step loop of small
   scenes, or on one thread, calls :func:`serial_variant` of its stages, which compile
-  no parallel code.
+  no parallel code; one of mid-sized scenes, their variants without the parallel
+  kernels over bodies.
 * Two compile paths. The *fast* path links compiled functions into their callers
   once (:mod:`granum._linking`), compiles a first run's stages on two processes
   (:mod:`granum._compile`) and fuses the stages of a step into one compiled loop
