@@ -123,7 +123,7 @@ def _parallel_reached(fn, seen) -> set[str]:
     if id(fn) in seen:
         return set()
     seen.add(id(fn))
-    if getattr(fn, "targetoptions", {}).get("parallel"):
+    if fn in _jit._KERNELS:  # a kernel's parallel dispatcher (compiled without prange under GRANUM_NOPAR=1)
         return {_jit._KERNELS[fn][1]}
     py = fn.py_func if hasattr(fn, "py_func") else _jit._OVERLOADS[fn][0]
     return set().union(*(_parallel_reached(value, seen) for _, value in _jit.granum_callees(py)))
