@@ -174,12 +174,19 @@ C_PAIRS = 0        # number of potential pairs
 C_CONTACTS = 1     # rows used in the pool (live and dead)
 C_DEAD = 2         # dead rows awaiting compaction
 C_CSR_DIRTY = 3    # contact set changed since the CSR index was built
-C_COLLIDE = 4      # the collider must run at the next step (set by Python on scene edits)
+C_COLLIDE = 4      # the collider must run at the next step (set by Python on scene edits): COLLIDE_*
 C_STATUS = 5       # STATUS_* of the last step
 C_ERR_A = 6        # first value describing the error (body id or code)
 C_ERR_B = 7        # second value describing the error
 C_COLLIDER_RUNS = 8
 NCTR = 9
+
+#: ``ctr[C_COLLIDE]``: 0 the collider runs when a body left its bound; COLLIDE_FULL at the next step, every body
+#: bounded again and the pair list rebuilt (a scene edit); COLLIDE_APPENDED at the next step, and bodies were only
+#: appended since it last ran (a factory's): it may bound and pair only them
+#: (:mod:`granum.kernels.collider_append`).
+COLLIDE_FULL = 1
+COLLIDE_APPENDED = 2
 
 STATUS_OK = 0
 STATUS_NO_PHYS = 1      # no IPhys functor for a material pair (ERR_A, ERR_B: body ids)
@@ -205,7 +212,7 @@ def new_contact_arrays(n_bodies: int, pair_capacity: int = 64, contact_capacity:
     con_i = np.zeros((contact_capacity, NI if periodic else NI_CORE), np.int32)
     con_i[:, I_PAIR] = -1
     ctr = np.zeros(NCTR, np.int64)
-    ctr[C_COLLIDE] = 1
+    ctr[C_COLLIDE] = COLLIDE_FULL
     return ContactArrays(
         pair_ids=np.zeros((pair_capacity, 2), np.int32),
         pair_cell=np.zeros((pair_capacity, 3), np.int32),

@@ -34,6 +34,8 @@ from granum.core.bodies import BORN_COLUMNS, new_body_table
 from granum.core.contacts import (
     C_COLLIDE,
     C_CONTACTS,
+    COLLIDE_APPENDED,
+    COLLIDE_FULL,
     FLAG_ALIVE,
     I_FLAGS,
     I_GEOM,
@@ -190,8 +192,15 @@ class Scene(BodyStore):
         return self._contact_functors.get(role, ())
 
     def needs_collider(self) -> None:
-        """Make the collider run at the next step (bodies or shapes changed)."""
-        self.contacts.ctr[C_COLLIDE] = 1
+        """Make the collider run at the next step (bodies or shapes changed): bound every body again and rebuild
+        the pair list."""
+        self.contacts.ctr[C_COLLIDE] = COLLIDE_FULL
+
+    def bodies_appended(self) -> None:
+        """Make the collider run at the next step after bodies were appended, and nothing else changed: unless a
+        full run is due anyway, it bounds and pairs only the new bodies (:mod:`granum.kernels.collider_append`)."""
+        if self.contacts.ctr[C_COLLIDE] == 0:
+            self.contacts.ctr[C_COLLIDE] = COLLIDE_APPENDED
 
     def detection_uses(self, functors: bytes) -> None:
         """The interaction loop detects contacts with the geometry functors and parameters ``functors``

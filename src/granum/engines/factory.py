@@ -285,7 +285,7 @@ class SpheresFactory(GlobalEngine):
         born = scene.born.append_rows(n)
         scene.born.iter[born:born + n] = scene.iter - 1     # the step that made them (the hook runs after it)
         scene.born.time[born:born + n] = scene.time - scene.dt
-        scene.needs_collider()
+        scene.bodies_appended()
         self.ids.extend(ids.tolist())
         self.numParticles += n
         total = float(self.totalMass)

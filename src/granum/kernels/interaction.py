@@ -71,7 +71,7 @@ from granum.core.contacts import (
     STATUS_NO_PHYS,
 )
 from granum.core.records import borrow, raw
-from granum.kernels.collider import body_displacement, body_reach
+from granum.kernels.bounds import body_displacement, body_reach
 from granum.kernels.copy import copy_rows
 from granum.kernels.dispatch import functors, geom_call, law_call, phys_call
 from granum.kernels.prefetch import prefetch_row
@@ -251,7 +251,7 @@ detect, detect_par = kernel(_detect, over="pairs")
 @jit
 def motion_block(b, S, nb, motion, spread):
     """Rows of ``motion`` (nb, 4) for the bodies of block ``b``: displacement since the collider ran and
-    rotation times reach (:func:`granum.kernels.collider.body_displacement`); in ``spread[b]`` (7,) the
+    rotation times reach (:func:`granum.kernels.bounds.body_displacement`); in ``spread[b]`` (7,) the
     least and the greatest displacement per axis and the greatest rotation term of its live bodies
     (inf when one of them is not finite)."""
     lo_x = lo_y = lo_z = math.inf  # scalars, not lists: a list would live on the heap
