@@ -249,7 +249,8 @@ class Scene(BodyStore):
         The record is kept while it is made of the same arrays (compiled code never replaces the
         scene's arrays), so a run with a Python engine every few steps does not rebuild it at every
         chunk; :meth:`forget_record` drops it at the end of a run, so that it keeps no replaced
-        array alive."""
+        array alive. The tables say whether their arrays are the same (:attr:`Table.generation`); the
+        other arrays are identified by their ids, which stay theirs while the record holds them."""
         b = self.bodies
         self.iscal[SI_NBODIES] = b.count
         self.contacts = resize_for_bodies(self.contacts, b.count)
@@ -259,21 +260,21 @@ class Scene(BodyStore):
             b.allocate("clump_rel_pos", "clump_rel_ori")
         if any(shape_type(kind).aspherical and table.count for kind, table in self.shapes.items()):
             b.allocate("ang_mom")
-        values = {c.name: b.stored(c.name) for c in b.columns}
-        for kind, table in self.shapes.items():
-            values.update({shape_type(kind).record_field(c.name): table.stored(c.name) for c in table.columns})
-        values.update(mat_kind=mat_kind, mat=mat, cell_hsize=self.cell_hsize, cell_velgrad=self.cell_velgrad,
-                      cell_prev_velgrad=self.cell_prev_velgrad, cell_trsf=self.cell_trsf,
-                      cell_bound_hsize=self.cell_bound_hsize, cell_prev_hsize=self.cell_prev_hsize,
-                      clump_members=self.clump_members.id,
-                      scal=self.scal, iscal=self.iscal, energy=self.energy, energy_set=self.energy_set)
-        arrays = [values[n] for n in SCENE.names]
-        # an array is identified by its storage and shape; empty ones (lazy columns not in use, made
-        # anew at every call) by their shape and dtype
-        key = tuple((a.shape, a.dtype.str) if a.size == 0 else (id(a) if a.base is None else id(a.base), a.shape)
-                    for a in arrays)
+        tables = (b, self.clump_members, *self.shapes.values())
+        others = (mat_kind, mat, self.cell_hsize, self.cell_velgrad, self.cell_prev_velgrad, self.cell_trsf,
+                  self.cell_bound_hsize, self.cell_prev_hsize, self.scal, self.iscal, self.energy, self.energy_set)
+        # the tables themselves (compared by identity), so that a table dropped meanwhile cannot pass for a new one
+        key = (tuple(self.shapes), tables, tuple(t.generation for t in tables), tuple(map(id, others)))
         if self._record is None or self._record[0] != key:
-            self._record = (key, SCENE.to_record(arrays))
+            values = {c.name: b.stored(c.name) for c in b.columns}
+            for kind, table in self.shapes.items():
+                values.update({shape_type(kind).record_field(c.name): table.stored(c.name) for c in table.columns})
+            values.update(mat_kind=mat_kind, mat=mat, cell_hsize=self.cell_hsize, cell_velgrad=self.cell_velgrad,
+                          cell_prev_velgrad=self.cell_prev_velgrad, cell_trsf=self.cell_trsf,
+                          cell_bound_hsize=self.cell_bound_hsize, cell_prev_hsize=self.cell_prev_hsize,
+                          clump_members=self.clump_members.id,
+                          scal=self.scal, iscal=self.iscal, energy=self.energy, energy_set=self.energy_set)
+            self._record = (key, SCENE.to_record([values[n] for n in SCENE.names]))
         return self._record[1]
 
     def forget_record(self) -> None:

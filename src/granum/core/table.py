@@ -46,9 +46,14 @@ class Column:
 
 
 class Table:
-    """A set of NumPy columns sharing one row count, with geometric growth."""
+    """A set of NumPy columns sharing one row count, with geometric growth.
+
+    ``generation`` counts the column arrays set on the table (growth, a lazy column's first use, a column
+    replaced): a record of the arrays built when it had the same value still holds them
+    (:meth:`granum.core.scene.Scene.arrays`)."""
 
     def __init__(self, columns: tuple[Column, ...], capacity: int = 8):
+        self.generation = 0
         self._columns = {c.name: c for c in columns}
         self.count = 0
         self._capacity = 0
@@ -56,6 +61,11 @@ class Table:
             if not c.lazy:
                 setattr(self, c.name, np.zeros((0,) + c.tail, dtype=c.dtype))
         self._grow(max(capacity, 1))
+
+    def __setattr__(self, name: str, value) -> None:
+        if name in self.__dict__.get("_columns", ()):
+            object.__setattr__(self, "generation", self.generation + 1)
+        object.__setattr__(self, name, value)
 
     def __getattr__(self, name: str):
         # reached only for attributes not set yet: a lazy column's first use allocates it

@@ -22,7 +22,6 @@ import sys
 import numpy as np
 
 from granum._jit import call
-from granum.core.arrays import S_VERLET
 from granum.core.attrs import Attr, as_number, to_bool, to_float, to_int, to_str
 from granum.core.bodies import dofs_from_string
 from granum.core.shapes import ShapeKind
@@ -225,7 +224,7 @@ class SpheresFactory(GlobalEngine):
         mat, density = self._material(omega)
         blocked = dofs_from_string(self.blockedDOFs)
         r_big = 0.5 * float(psd_sizes.max()) if len(psd_cum) else r_max
-        sph_pos, sph_r, box_lo, box_hi = _obstacles(scene, kind, center, size, r_big)
+        sph_pos, sph_r, box_lo, box_hi = call(k.factory_obstacles, scene.arrays(), kind, center, size, r_big)
         speed = self.vMin + call(k.uniform, self._rng) * (self.vMax - self.vMin)
         vel = speed * self._velocity_direction()
         r_small = 0.5 * float(psd_sizes.min()) if len(psd_cum) else r_min
@@ -293,27 +292,6 @@ class SpheresFactory(GlobalEngine):
             total += x
         self.totalMass = total
         self.totalVolume += float((4.0 / 3.0 * math.pi * r ** 3).sum())
-
-
-def _obstacles(scene, kind, center, size, r_big):
-    """The spheres (positions (m, 3), radii (m,)) and the other bodies' bounds less the Verlet distance
-    (lo, hi: (k, 3)) that may touch a sphere of radius up to ``r_big`` [m] in the region."""
-    b = scene.bodies
-    n = scene.body_count
-    reach = np.full(3, size[0] + 0.5 * size[1]) if kind == k.KIND_CIRCLE else np.asarray(size, float)
-    lo, hi = center - reach - r_big, center + reach + r_big
-    alive = b.alive[:n]
-    sphere = alive & (b.shape_kind[:n] == ShapeKind.SPHERE)
-    ids = np.flatnonzero(sphere)
-    r = scene.shapes[ShapeKind.SPHERE].radius[b.shape_row[ids]]
-    p = b.pos[ids]
-    near = ((p + r[:, None] >= lo) & (p - r[:, None] <= hi)).all(axis=1)
-    verlet = float(scene.scal[S_VERLET])
-    others = np.flatnonzero(alive & ~sphere)
-    blo, bhi = b.bound_min[others] + verlet, b.bound_max[others] - verlet
-    bounded = (blo <= bhi).all(axis=1) & ((bhi >= lo) & (blo <= hi)).all(axis=1)
-    return (np.ascontiguousarray(p[near]), np.ascontiguousarray(r[near]), np.ascontiguousarray(blo[bounded]),
-            np.ascontiguousarray(bhi[bounded]))
 
 
 class CircularFactory(SpheresFactory):

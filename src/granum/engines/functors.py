@@ -147,8 +147,9 @@ def functor_table(role: str, instances, more_codes=()) -> tuple:
     the set of the given instances' codes and ``more_codes``, and their parameters (row = functor code;
     the functors of ``more_codes`` not among ``instances`` have their default parameters)."""
     specs = functors(role)
-    rows = {code: CLASSES[specs[code].yade_name]().numeric_params() for code in more_codes}  # the defaults
-    rows.update({f.code: f.numeric_params() for f in instances})
+    rows = {f.code: f.numeric_params() for f in instances}
+    rows.update({code: CLASSES[specs[code].yade_name]().numeric_params() for code in more_codes  # the defaults
+                 if code not in rows})
     # a MatchMaker's table makes its row longer than the functor's parameters
     prm = np.zeros((len(specs), max([len(s.params) for s in specs] + [len(v) for v in rows.values()] + [1])))
     for code, values in rows.items():

@@ -41,15 +41,27 @@ ROLES = {
 FALLBACK = {"bound": "None", "geom": "math.inf", "phys": "None", "law": "False"}
 
 
+#: role -> (registry.functor_generation, the role's functors in code order, their codes by YADE name): engines
+#: build their parameters from these before every chunk of steps
+_BY_ROLE: dict = {}
+
+
+def _role(role: str) -> tuple:
+    entry = _BY_ROLE.get(role)
+    if entry is None or entry[0] != registry.functor_generation:
+        listed = [f for f in registry.FUNCTORS.values() if f.role == role]
+        entry = _BY_ROLE[role] = (registry.functor_generation, listed, {f.yade_name: k for k, f in enumerate(listed)})
+    return entry
+
+
 def functors(role: str) -> list[registry.Functor]:
     """Registered functors of ``role`` in code order."""
-    return [f for f in registry.FUNCTORS.values() if f.role == role]
+    return list(_role(role)[1])
 
 
 def code_of(yade_name: str) -> int:
     """Code of a registered functor."""
-    f = registry.FUNCTORS[yade_name]
-    return [g.yade_name for g in functors(f.role)].index(yade_name)
+    return _role(registry.FUNCTORS[yade_name].role)[2][yade_name]
 
 
 def functor_set(role: str, codes) -> Static:

@@ -30,7 +30,8 @@ from typing import NamedTuple
 import numpy as np
 
 from granum._jit import jit
-from granum.core.arrays import S_DT, SI_HOOK
+from granum.core.arrays import S_DT, S_VERLET, SI_HOOK, SI_NBODIES
+from granum.core.shapes import ShapeKind
 
 #: region kinds
 KIND_CIRCLE = 0
@@ -128,6 +129,62 @@ def pick_position(rng, kind, center, frame, size, r, out):
     a, b = rho * math.cos(phi), rho * math.sin(phi)
     for k in range(3):
         out[k] = center[k] + t * frame[0, k] + a * frame[1, k] + b * frame[2, k]
+
+
+@jit
+def factory_obstacles(S, kind, center, size, r_big):
+    """What a new sphere of radius up to ``r_big`` [m] in the region (``kind``, ``center`` (3,) [m], ``size``
+    (3,): a box's half sizes, or a circle's radius and length [m]) must not touch: the spheres reaching into the
+    region's box (its reach plus ``r_big`` on each side), positions (m, 3) and radii (m,) [m], and the bounds of
+    the other bodies reaching into it, less the Verlet distance, lower and upper corners (k, 3) [m]; in id
+    order. ``S``: the scene's record."""
+    nb = S.iscal[SI_NBODIES]
+    verlet = S.scal[S_VERLET]
+    lo = np.empty(3)
+    hi = np.empty(3)
+    for d in range(3):
+        reach = size[0] + 0.5 * size[1] if kind == KIND_CIRCLE else size[d]
+        lo[d] = center[d] - reach - r_big
+        hi[d] = center[d] + reach + r_big
+    sphere = np.zeros(nb, np.bool_)
+    keep = np.zeros(nb, np.bool_)
+    m = 0
+    for i in range(nb):
+        if not S.alive[i]:
+            continue
+        sphere[i] = S.shape_kind[i] == ShapeKind.SPHERE
+        r = S.sphere_radius[S.shape_row[i]] if sphere[i] else 0.0
+        inside = True
+        for d in range(3):
+            if sphere[i]:
+                inside &= S.pos[i, d] + r >= lo[d] and S.pos[i, d] - r <= hi[d]
+            else:   # an empty bound (no bound functor, not bounded yet) is kept out by its corners' order
+                a = S.bound_min[i, d] + verlet
+                b = S.bound_max[i, d] - verlet
+                inside &= a <= b and b >= lo[d] and a <= hi[d]
+        keep[i] = inside
+        m += inside and sphere[i]
+    k = int(keep.sum()) - m
+    sph_pos = np.empty((m, 3))
+    sph_r = np.empty(m)
+    box_lo = np.empty((k, 3))
+    box_hi = np.empty((k, 3))
+    m = 0
+    k = 0
+    for i in range(nb):
+        if not keep[i]:
+            continue
+        if sphere[i]:
+            for d in range(3):
+                sph_pos[m, d] = S.pos[i, d]
+            sph_r[m] = S.sphere_radius[S.shape_row[i]]
+            m += 1
+        else:
+            for d in range(3):
+                box_lo[k, d] = S.bound_min[i, d] + verlet
+                box_hi[k, d] = S.bound_max[i, d] - verlet
+            k += 1
+    return sph_pos, sph_r, box_lo, box_hi
 
 
 @jit

@@ -235,6 +235,10 @@ def register_material(kind: MaterialKind) -> None:
 
 _sealed = False
 
+#: Bumped by every registration of a functor: what caches of the functors by role compare
+#: (:func:`granum.kernels.dispatch.functors`).
+functor_generation = 0
+
 
 def seal() -> None:
     """Refuse further functors: the dispatch has been generated from these (granum.kernels.dispatch)."""
@@ -267,7 +271,9 @@ def register_functor(f: Functor) -> None:
         what = "granum's own functor" if old.function is None else \
             f"the {old.role} functor for {old.types} registered before"
         raise ValueError(f"functor {f.yade_name} is already {what}; choose another name")
+    global functor_generation
     FUNCTORS[f.yade_name] = f
+    functor_generation += 1
 
 
 def code_digest(func: Callable) -> str:
