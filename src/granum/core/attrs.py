@@ -43,6 +43,8 @@ class Attributed:
     """
 
     _attrs: dict[str, Attr] = {}
+    #: declared attributes assigned so far (:func:`edit_token`)
+    _edits = 0
 
     def __init_subclass__(cls, **kw):
         super().__init_subclass__(**kw)
@@ -81,6 +83,7 @@ class Attributed:
         if a.convert is not None:
             value = a.convert(self, value)
         object.__setattr__(self, name, value)
+        object.__setattr__(self, "_edits", self._edits + 1)
         self._changed(name)
 
     def _changed(self, name: str) -> None:
@@ -213,3 +216,20 @@ def one_of(name: str, allowed: tuple):
         return int(value)
 
     return convert
+
+
+def edit_token(obj: Attributed, held: list) -> tuple:
+    """Edit counts of ``obj`` and of the Attributed objects its declared attributes hold (directly or in lists and
+    tuples), depth first, with their ids; the objects are appended to ``held``, whose keeper keeps them alive (so
+    that no new object takes an id of the token). Equal tokens of kept objects: the same attribute values, as
+    long as values change by assignment (YADE hands out copies of its vectors and lists, so changing one in
+    place changes nothing there either)."""
+    held.append(obj)
+    token = [id(obj), obj._edits]
+    values = obj.__dict__
+    for name in obj._attrs:
+        v = values.get(name)
+        for x in (v if isinstance(v, (list, tuple)) else (v,)):
+            if isinstance(x, Attributed):
+                token.append(edit_token(x, held))
+    return tuple(token)

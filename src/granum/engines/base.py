@@ -42,6 +42,13 @@ class Engine(Attributed):
         by keyword (``engines``: the whole engine list). A stage without parameters gets ``()``."""
         return ()
 
+    def params_key(self, scene, held: list):
+        """None, or a key such that :meth:`params` gives the same parameters while it is equal: the runner then
+        keeps them from chunk to chunk instead of building them anew (a run with a Python engine due at every
+        step has a chunk a step). Objects the key identifies by id go into ``held``, which the runner keeps.
+        An engine whose parameters read the scene's changing state returns None (the default)."""
+        return None
+
     def run_hook(self, omega) -> None:
         """Python part of a compiled engine, run after a step in which its stage asked for it."""
 

@@ -12,7 +12,7 @@ import functools
 
 import numpy as np
 
-from granum.core.attrs import Attr, instance_of, only_default, to_bool, to_float, to_int
+from granum.core.attrs import Attr, edit_token, instance_of, only_default, to_bool, to_float, to_int
 from granum.core.contacts import TOTALS, contact_width, shared_columns
 from granum.core.shapes import ShapeKind
 from granum.engines.base import GlobalEngine
@@ -164,6 +164,12 @@ class InsertionSortCollider(GlobalEngine):
     def functors(self) -> list:
         return list(self.boundDispatcher.functors)
 
+    def params_key(self, scene, held: list) -> tuple:
+        """The collider's parameters come from its attributes and bound functors and whether the cell is
+        periodic."""
+        return (edit_token(self, held), tuple(edit_token(f, held) for f in self.boundDispatcher.functors),
+                scene.periodic, registry.functor_generation)
+
     def params(self, scene, engines) -> ColliderParams:
         bound_code = np.full(NKINDS, -1, np.int32)
         for f in self.boundDispatcher.functors:
@@ -218,6 +224,15 @@ class InteractionLoop(GlobalEngine):
         key = tuple(tuple(type(f) for f in d.functors) for d in (self.geomDispatcher, self.physDispatcher,
                                                                    self.lawDispatcher))
         return {name: a.copy() for name, a in _dispatch_tables(*key, len(registry.MATERIALS)).items()}
+
+    def params_key(self, scene, held: list) -> tuple:
+        """The loop's parameters come from its functors (and their MatchMakers), the scene's materials, the
+        functors of its existing contacts and whether energies are tracked: registrations aside, nothing else."""
+        held.extend(scene.materials)
+        return (edit_token(self, held), tuple(edit_token(f, held) for f in self.functors()),
+                tuple((id(m), m.version) for m in scene.materials),
+                tuple(scene.contact_functors(role) for role in ("geom", "phys", "law")), scene.track_energy,
+                registry.functor_generation, len(registry.MATERIALS))
 
     def params(self, scene, engines) -> InteractionParams:
         for f in self.functors():

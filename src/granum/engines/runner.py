@@ -92,6 +92,7 @@ class Plan:
         self.segments = [[e.stage for e in seg] for seg in segments]
         self.key = plan_key(engines)
         self._loops: dict = {}
+        self._type_keys: dict = {}   # id -> (object, type key): see _known_type_key
 
     def run_steps(self, *args, serial: frozenset = frozenset()):
         """Run the compiled step loop ``run_steps(*args)`` (see :mod:`granum.kernels.steploop`); with ``serial``
@@ -104,11 +105,29 @@ class Plan:
         compile path, a Python loop calls their entry points). It is kept per argument types: calls skip Numba's
         typing.
         """
-        key = _type_key(args), serial
+        key = tuple(self._known_type_key(a) for a in args), serial
         loop = self._loops.get(key)
         if loop is None:
             loop = self._loops[key] = steploop.loop(self.segments, args, serial)
         return loop(*args)
+
+    def _known_type_key(self, value):
+        """:func:`_type_key` of ``value``, remembered for the stages' parameters (named tuples) of the last
+        chunks: the engines keep theirs while nothing changed (:meth:`Runner.params`), and the same object's
+        type cannot have changed. The remembered objects are kept, so that their ids stay theirs (a few small
+        arrays each; records, which hold the scene's arrays, are typed afresh: that is cheap)."""
+        if type(value) is tuple:   # the parameters of all stages: stage by stage
+            return tuple(self._known_type_key(v) for v in value)
+        if not isinstance(value, tuple):
+            return _type_key(value)
+        kept = self._type_keys.get(id(value))
+        if kept is not None and kept[0] is value:
+            return kept[1]
+        if len(self._type_keys) >= 64:
+            self._type_keys.clear()
+        key = _type_key(value)
+        self._type_keys[id(value)] = (value, key)
+        return key
 
 
 def _type_key(value):
@@ -167,9 +186,24 @@ class Runner:
         return self._plan
 
     def params(self, plan: Plan) -> tuple:
+        """The compiled engines' parameters, built anew before every chunk of steps, but for engines whose
+        :meth:`params_key <granum.engines.base.Engine.params_key>` is the same as for the last ones they gave in
+        this scene and plan (the step loop's types are then known: :meth:`Plan.run_steps`)."""
+        out = []
         for k, e in enumerate(plan.compiled):
             object.__setattr__(e, "_plan_index", k + 1)  # what a stage writes to SI_HOOK to call back
-        return tuple(e.params(self.scene, plan.engines) for e in plan.compiled)
+            held: list = [self.scene, plan]
+            key = e.params_key(self.scene, held)
+            kept = e.__dict__.get("_params_kept")
+            if key is not None and kept is not None and kept[0] == (k, key) and kept[2][0] is self.scene \
+                    and kept[2][1] is plan:
+                out.append(kept[1])
+                continue
+            p = e.params(self.scene, plan.engines)
+            if key is not None:
+                object.__setattr__(e, "_params_kept", ((k, key), p, held))
+            out.append(p)
+        return tuple(out)
 
     def check_scene(self) -> None:
         """Errors that would otherwise surface as NaN inside the kernels."""
