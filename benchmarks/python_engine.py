@@ -13,12 +13,10 @@
 
 import os
 import sys
-import time
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(sys.argv[0])))
-from _bench import env_int, measure  # noqa: E402
-
-t_script = time.perf_counter()
+here = os.path.dirname(os.path.abspath(sys.argv[0]))
+with open(os.path.join(here, 'bouncing_sphere.py')) as f:  # its scene and engines, without its measurement
+    exec(compile(f.read().split('\nmeasure(')[0], os.path.join(here, 'bouncing_sphere.py'), 'exec'))
 calls = [0]
 
 
@@ -26,22 +24,6 @@ def count():
     calls[0] += 1
 
 
-O.bodies.append([
-    sphere(center=(0, 0, 0), radius=.5, fixed=True),  # fixed support
-    sphere((0, 0, 2), .5),  # free sphere, falls on the support
-])
-O.engines = [
-    ForceResetter(),
-    InsertionSortCollider([Bo1_Sphere_Aabb()]),
-    InteractionLoop(
-        [Ig2_Sphere_Sphere_ScGeom()],
-        [Ip2_FrictMat_FrictMat_FrictPhys()],
-        [Law2_ScGeom_FrictPhys_CundallStrack()],
-    ),
-    NewtonIntegrator(gravity=(0, 0, -9.81), damping=0.1),
-    PyRunner(command='count()', iterPeriod=env_int('BENCH_PERIOD', 1)),
-]
-O.dt = .5e-4 * PWaveTimeStep()
-warmup = env_int('BENCH_WARMUP', 1)
-measure(O, 'python_engine', 2, env_int('BENCH_STEPS', 20000), warmup, t_script,
+O.engines = O.engines + [PyRunner(command='count()', iterPeriod=env_int('BENCH_PERIOD', 1))]
+measure(O, 'python_engine', 2, env_int('BENCH_STEPS', 20000), env_int('BENCH_WARMUP', 1), t_script,
         extra=lambda: {'calls': calls[0], 'z': f'{O.bodies[1].state.pos[2]:.9g}'})
