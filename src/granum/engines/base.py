@@ -143,8 +143,10 @@ class PeriodicEngine(GlobalEngine):
             run = self.initRun
         else:
             return False
-        self.iterLast, self.virtLast, self.realLast = it, scene.time, now
-        self.nDone += 1
+        # the values are of the declared types already: set without the converters (due() runs for every Python
+        # engine at every step it may be due), but counted as edits all the same
+        self.__dict__.update(iterLast=int(it), virtLast=float(scene.time), realLast=now, nDone=self.nDone + 1)
+        object.__setattr__(self, "_edits", self._edits + 4)
         return run
 
     def next_due_iter(self, scene) -> int | None:

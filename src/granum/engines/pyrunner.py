@@ -29,7 +29,11 @@ class PyRunner(PeriodicEngine):
         if not self.command:
             return
         try:
-            exec(self.command, omega.namespace())
+            compiled = self.__dict__.get("_compiled")
+            if compiled is None or compiled[0] != self.command:   # once per command: a run may call it often
+                compiled = (self.command, compile(self.command, "<string>", "exec"))
+                object.__setattr__(self, "_compiled", compiled)
+            exec(compiled[1], omega.namespace())
         except Exception as e:
             if not self.ignoreErrors:
                 raise PyRunnerError(yade_report(self.command, e)) from e
