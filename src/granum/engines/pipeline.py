@@ -177,7 +177,8 @@ class InsertionSortCollider(GlobalEngine):
         return ColliderParams(bound_code=bound_code, bound_tab=functor_table("bound", self.boundDispatcher.functors),
                               verlet_dist=float(self.verletDist), avoid_self=int(self.avoidSelfInteractionMask),
                               allow_bigger=bool(self.allowBiggerThanPeriod),
-                              cell=Static(("cell", bool(scene.periodic))))
+                              cell=Static(("cell", bool(scene.periodic))),
+                              appends=Static(("appends", any(getattr(e, "adds_bodies", False) for e in engines))))
 
 
 def law_totals() -> np.ndarray:

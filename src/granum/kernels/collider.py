@@ -600,6 +600,24 @@ def _cell_pairs(cell, S, nb, avoid_self, allow_bigger, pairs_before):
     return aperiodic
 
 
+def appended_run(appends, S, C, nb, bound_code, bound_tab, verlet_dist, avoid_self, flags):
+    """The collider's run for bodies only appended (:func:`granum.kernels.collider_append.append_bodies`); for
+    ``appends``, a static ``("appends", bool)``: whether an engine of the plan adds bodies as the run goes.
+    Without one, always False, and the stage compiles no code for it."""
+    raise TypeError("appended_run is called from compiled kernels only")
+
+
+@overload(appended_run)
+def _appended_run(appends, S, C, nb, bound_code, bound_tab, verlet_dist, avoid_self, flags):
+    value = static_value(appends, "appends")
+    if value is None:
+        return None
+    if value[1]:
+        return lambda appends, S, C, nb, bound_code, bound_tab, verlet_dist, avoid_self, flags: append_bodies(
+            S, C, nb, bound_code, bound_tab, verlet_dist, avoid_self, flags)
+    return lambda appends, S, C, nb, bound_code, bound_tab, verlet_dist, avoid_self, flags: False
+
+
 class ColliderParams(NamedTuple):
     """Parameters of :func:`collider_stage` (InsertionSortCollider)."""
 
@@ -609,6 +627,9 @@ class ColliderParams(NamedTuple):
     avoid_self: int         #: YADE's avoidSelfInteractionMask
     allow_bigger: bool      #: YADE's allowBiggerThanPeriod: no periodic body is refused as too wide
     cell: Static            #: ``("cell", periodic)`` of the scene: compiles one broad phase (:func:`cell_pairs`)
+    #: ``("appends", bool)``: an engine of the plan adds bodies as the run goes (a factory): the collider's run for
+    #: appended bodies is compiled (:func:`appended_run`)
+    appends: Static
 
 
 @jit
@@ -620,8 +641,8 @@ def collider_stage(S, C, P):
     nblocks = (nb + BLOCK - 1) // BLOCK
     flags, _ = take_u1(area(C, words_u1(nblocks)), 0, nblocks)  # from the work area (granum.kernels.scratch)
     R = raw(S)  # loops over bodies read the scene through a raw view (see granum.core.records)
-    if C.ctr[C_COLLIDE] == COLLIDE_APPENDED and not periodic and append_bodies(
-            R, C, nb, bound_code, bound_tab, P.verlet_dist, P.avoid_self, flags):
+    if C.ctr[C_COLLIDE] == COLLIDE_APPENDED and not periodic and appended_run(
+            P.appends, R, C, nb, bound_code, bound_tab, P.verlet_dist, P.avoid_self, flags):
         return
     if C.ctr[C_COLLIDE] == 0 and not any_body_moved(R, nb, flags) and not (
             periodic and cell_moved(S, S.scal[S_VERLET])):
