@@ -164,11 +164,14 @@ class InsertionSortCollider(GlobalEngine):
     def functors(self) -> list:
         return list(self.boundDispatcher.functors)
 
-    def params_key(self, scene, held: list) -> tuple:
+    def params_key(self, scene, held: list) -> tuple | None:
         """The collider's parameters come from its attributes and bound functors and whether the cell is
-        periodic."""
-        return (edit_token(self, held), tuple(edit_token(f, held) for f in self.boundDispatcher.functors),
-                scene.periodic, registry.functor_generation)
+        periodic; None with a functor that has a Python side (:func:`python_sided`)."""
+        functors = self.boundDispatcher.functors
+        if python_sided(functors):
+            return None
+        return (edit_token(self, held), tuple(edit_token(f, held) for f in functors), scene.periodic,
+                registry.functor_generation)
 
     def params(self, scene, engines) -> ColliderParams:
         bound_code = np.full(NKINDS, -1, np.int32)
@@ -179,6 +182,13 @@ class InsertionSortCollider(GlobalEngine):
                               allow_bigger=bool(self.allowBiggerThanPeriod),
                               cell=Static(("cell", bool(scene.periodic))),
                               appends=Static(("appends", any(getattr(e, "adds_bodies", False) for e in engines))))
+
+
+def python_sided(functors) -> bool:
+    """Whether one of ``functors`` has a Python side (``registry.Functor.python``): its ``prepare`` may act on the
+    scene and on its own state before every chunk (the cohesive Ip2's setCohesionNow lasts one step, the concrete
+    model's reads the bodies' materials), so an engine listing it builds its parameters anew every time."""
+    return any(f.spec.python for f in functors)
 
 
 def law_totals() -> np.ndarray:
@@ -226,11 +236,15 @@ class InteractionLoop(GlobalEngine):
                                                                    self.lawDispatcher))
         return {name: a.copy() for name, a in _dispatch_tables(*key, len(registry.MATERIALS)).items()}
 
-    def params_key(self, scene, held: list) -> tuple:
+    def params_key(self, scene, held: list) -> tuple | None:
         """The loop's parameters come from its functors (and their MatchMakers), the scene's materials, the
-        functors of its existing contacts and whether energies are tracked: registrations aside, nothing else."""
+        functors of its existing contacts and whether energies are tracked: registrations aside, nothing else;
+        None with a functor that has a Python side (:func:`python_sided`)."""
+        functors = self.functors()
+        if python_sided(functors):
+            return None
         held.extend(scene.materials)
-        return (edit_token(self, held), tuple(edit_token(f, held) for f in self.functors()),
+        return (edit_token(self, held), tuple(edit_token(f, held) for f in functors),
                 tuple((id(m), m.version) for m in scene.materials),
                 tuple(scene.contact_functors(role) for role in ("geom", "phys", "law")), scene.track_energy,
                 registry.functor_generation, len(registry.MATERIALS))
