@@ -192,16 +192,17 @@ class Runner:
         out = []
         for k, e in enumerate(plan.compiled):
             object.__setattr__(e, "_plan_index", k + 1)  # what a stage writes to SI_HOOK to call back
-            held: list = [self.scene, plan]
+            held: list = []
             key = e.params_key(self.scene, held)
+            if key is not None:   # the scene and the plan compare by identity
+                key = (k, self.scene, plan, key)
             kept = e.__dict__.get("_params_kept")
-            if key is not None and kept is not None and kept[0] == (k, key) and kept[2][0] is self.scene \
-                    and kept[2][1] is plan:
+            if key is not None and kept is not None and kept[0] == key:
                 out.append(kept[1])
                 continue
             p = e.params(self.scene, plan.engines)
             if key is not None:
-                object.__setattr__(e, "_params_kept", ((k, key), p, held))
+                object.__setattr__(e, "_params_kept", (key, p, held))
             out.append(p)
         return tuple(out)
 
