@@ -18,13 +18,15 @@ potential pairs are never real, so granum keeps them apart:
     bodies since the budget was set (from ``pair_ref``) stays below it, they cannot touch and the
     geometry is not evaluated (see :func:`granum.kernels.interaction.detect_block`).
     -inf: evaluate at the next step (new pairs, ended contacts); +inf: never (the pair has
-    a contact, or its shapes do not interact).
+    a contact, or its shapes do not interact). A pair with a contact always has +inf: the detection
+    passes over it on that alone.
 ``pair_ref``  (P, 3) int16
     Relative displacement d_a - d_b of the pair's bodies since the collider ran, taken when its budget was
     set, in units of ``scal[S_PAIR_REF_UNIT]`` (rounded; the rounding is taken from the budget): the motion
     the budget is compared with is measured from there (see :func:`granum.kernels.interaction.detect_block`).
 ``pair_hit``  (P,) uint8
-    Outcome of this step's detection for the pair (``HIT_*`` of the interaction loop).
+    Outcome of this step's detection for the pair (``HIT_*`` of the interaction loop), set for the pairs
+    found touching and zeroed again as they become contacts: zero outside the interaction loop.
 ``con_i``, ``con_f``  (K, NI_CORE or NI) int32 and (K, NF) float64
     The pool of real contacts, one row per contact (all columns of a contact are
     adjacent in memory, which suits the per-contact loop). Column offsets are the

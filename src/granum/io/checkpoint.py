@@ -489,7 +489,8 @@ def scene_values_check(scene: Scene, source: str) -> None:
 
 
 def scene_check(scene: Scene, source: str) -> None:
-    """The indices compiled kernels follow without bounds checks must point inside their arrays."""
+    """The indices compiled kernels follow without bounds checks must point inside their arrays; the pairs'
+    detection state is made what the interaction loop takes for granted."""
     from granum.kernels.dispatch import functors
 
     b = scene.bodies
@@ -517,6 +518,10 @@ def scene_check(scene: Scene, source: str) -> None:
         raise CheckpointError(f"{source}: corrupt checkpoint (interaction counters exceed their arrays)")
     _range(C.pair_ids[:npair], 0, n, "pair body id", source)
     _range(C.pair_con[:npair], -1, ncon, "pair contact", source)
+    # what the detection takes for granted (granum.core.contacts): no hit outside a step (earlier versions left
+    # the last step's), an infinite budget for a pair with a contact
+    C.pair_hit[:] = 0
+    C.pair_gap[:npair][C.pair_con[:npair] >= 0] = np.inf
     live = (C.con_i[:ncon, I_FLAGS] & FLAG_ALIVE) != 0
     _range(C.con_i[:ncon][live][:, [I_ID1, I_ID2]], 0, n, "contact body id", source)
     _range(C.con_i[:ncon, I_PAIR], -1, npair, "contact pair", source)

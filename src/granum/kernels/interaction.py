@@ -182,7 +182,7 @@ def detect_block(b, S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, bound
     E + max(0, 2 max w - T), E bounding |D(t)| over all pairs (:func:`motion_bound`). Since
     |D(t) - unit ref| <= |D(t)| + |unit ref|, a pair whose stored budget exceeds ``bound`` cannot touch
     and is passed over without reading more (+inf when it has a contact): in a quasi-static packing
-    the pass reads 5 bytes per pair. In a drum the rotating facets no longer widen the bound of the
+    the pass reads 4 bytes per pair (the budget). In a drum the rotating facets no longer widen the bound of the
     sphere pairs. The per-pair test gives T back to a pair whose bodies turn now (w_a + w_b > 0: it is
     a turning pair); a turning pair whose bodies have not turned yet is tested without it (smaller,
     still safe). The arrays are read into locals (borrowed: no reference counting per pair).
@@ -197,12 +197,19 @@ def detect_block(b, S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, bound
     found = 0
     first = 0
     # the pairs to test listed first, without a branch: which pass the quick test is as good as random, and
-    # a mispredicted branch per pair cost more than the listing
+    # a mispredicted branch per pair cost more than the listing. A pair with a contact has an infinite budget,
+    # above any finite bound: only an infinite bound needs pair_con read (pair_hit is zero here: see
+    # create_contacts)
     listed = 0
-    for p in range(b * BLOCK, min(C.ctr[C_PAIRS], (b + 1) * BLOCK)):
-        pair_hit[p] = 0
-        candidates[listed] = p
-        listed += (not pair_gap[p] > bound) & (pair_con[p] < 0)
+    end = min(C.ctr[C_PAIRS], (b + 1) * BLOCK)
+    if bound < math.inf:
+        for p in range(b * BLOCK, end):
+            candidates[listed] = p
+            listed += not pair_gap[p] > bound
+    else:
+        for p in range(b * BLOCK, end):
+            candidates[listed] = p
+            listed += pair_con[p] < 0
     for t in range(listed):
         p = candidates[t]
         i = pair_ids[p, 0]
@@ -434,14 +441,16 @@ def create_contacts(S, C, geom_code, geom_swap, geom_type, phys_code, phys_swap,
             hit = C.pair_hit[p]
             if hit == 0:
                 continue
+            C.pair_hit[p] = 0   # consumed: pair_hit is zero outside the interaction loop (see detect_block)
             left -= 1
             if hit == HIT_NO_FUNCTOR:
                 fail(C, STATUS_NO_GEOM, C.pair_ids[p, 0], C.pair_ids[p, 1])
-                return
-            c = new_contact(S, C, C.pair_ids[p, 0], C.pair_ids[p, 1], p, geom_code, geom_swap, geom_type,
-                               phys_code, phys_swap, phys_type, law_code)
-            if c < 0:
-                return
+            elif new_contact(S, C, C.pair_ids[p, 0], C.pair_ids[p, 1], p, geom_code, geom_swap, geom_type,
+                             phys_code, phys_swap, phys_type, law_code) >= 0:
+                continue
+            for q in range(C.ctr[C_PAIRS]):   # the step stops with the error: no hit may outlive it
+                C.pair_hit[q] = 0
+            return
 
 
 class InteractionParams(NamedTuple):

@@ -1,0 +1,107 @@
+"""The pairs' detection state between steps: what the interaction loop's detection takes for granted
+(granum.core.contacts, granum.kernels.interaction.detect_block).
+
+The detection lists a pair for testing on its budget alone (a pair with a contact has an infinite one) and
+reads the step's hits from ``pair_hit`` (zero outside the interaction loop). A pair with a contact listed again
+would get a second contact; a hit left from an earlier step would make a contact of a pair that does not touch.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from conftest import frict_engines
+
+from granum.core.contacts import C_CONTACTS, C_PAIRS, FLAG_ALIVE, I_FLAGS, I_ID1, I_ID2
+
+HIT_TOUCH = 1   # granum.kernels.interaction.HIT_TOUCH
+
+
+def _settling_box(yade, geoms=None) -> None:
+    """A seeded cloud of spheres falling into a facet box: contacts begin and end at many steps."""
+    O = yade.O
+    O.bodies.append(yade.geom.facetBox((0.5, 0.5, 0.5), (0.5, 0.5, 0.5)))
+    sp = yade.pack.SpherePack()
+    sp.makeCloud((0, 0, 0), (1, 1, 0.8), rMean=0.05, rRelFuzz=0.3, seed=5)
+    sp.toSimulation()
+    O.engines = frict_engines(yade, gravity=(0, 0, -9.81), damping=0.1, geoms=geoms)
+    O.dt = 0.5 * yade.PWaveTimeStep()
+
+
+def _detection_state(scene) -> tuple[np.ndarray, np.ndarray]:
+    """The hits left in ``pair_hit`` and the budgets of the pairs with a contact."""
+    C = scene.contacts
+    n = int(C.ctr[C_PAIRS])
+    return C.pair_hit[:n].copy(), C.pair_gap[:n][C.pair_con[:n] >= 0]
+
+
+def _contacts(O) -> list:
+    """The live contacts as sorted (id1, id2): one per pair (no pair twice)."""
+    C = O._scene.contacts
+    con = C.con_i[:C.ctr[C_CONTACTS]]
+    live = con[(con[:, I_FLAGS] & FLAG_ALIVE) != 0]
+    return sorted(map(tuple, np.sort(live[:, [I_ID1, I_ID2]], axis=1).tolist()))
+
+
+def test_no_hit_outlives_a_step_and_contact_pairs_are_never_listed(yade):
+    """Every 10 steps of 600 in which the landing cloud's contacts begin and end, no pair holds a hit, every pair
+    with a contact has an infinite budget, and no two contacts join the same bodies."""
+    O = yade.O
+    _settling_box(yade)
+    O.run(2000, True)   # the first spheres have landed
+    made = 0
+    for _ in range(60):
+        O.run(10, True)
+        hits, budgets = _detection_state(O._scene)
+        assert not hits.any()
+        assert np.isposinf(budgets).all()
+        pairs = _contacts(O)
+        assert len(pairs) == len(set(pairs))
+        made = max(made, len(pairs))
+    assert made > 150
+
+
+def test_a_step_stopped_by_a_missing_geometry_functor_leaves_no_hit(yade):
+    """Spheres touching facets without Ig2_Facet_Sphere_ScGeom listed: the step stops with an error naming the
+    functor as soon as their bounds overlap, and leaves no hit behind; listed then, the run goes on and makes the
+    facet contacts (each pair once)."""
+    O = yade.O
+    _settling_box(yade, geoms=[yade.Ig2_Sphere_Sphere_ScGeom()])
+    with pytest.raises(RuntimeError, match="no IGeom functor for .*Facet"):
+        O.run(2000, True)
+    hits, _ = _detection_state(O._scene)
+    assert not hits.any()
+    O.engines[2].geomDispatcher.functors = [yade.Ig2_Sphere_Sphere_ScGeom(), yade.Ig2_Facet_Sphere_ScGeom()]
+    O.run(500, True)   # the error came when bounds met: the spheres reach the floor a little later
+    pairs = _contacts(O)
+    facet_ids = {b.id for b in O.bodies if isinstance(b.shape, yade.Facet)}
+    assert any(a in facet_ids for a, _ in pairs)
+    assert len(pairs) == len(set(pairs))
+
+
+def test_a_checkpoint_with_stale_hits_resumes_exactly(yade, tmp_path):
+    """A checkpoint whose pairs hold hits and finite budgets on pairs with contacts (what an earlier version could
+    leave, or a damaged file) loads with both put right: the run goes on bit for bit as without them."""
+    O = yade.O
+    _settling_box(yade)
+    O.run(1500, True)
+    assert len(_contacts(O)) > 20
+    path = tmp_path / "scene.yade"
+    O.save(str(path))
+    O.run(100, True)
+    expected = O.bodies.arrays("pos", "vel", "angVel")
+    O.reset()
+    O.load(str(path))
+    C = O._scene.contacts
+    n = int(C.ctr[C_PAIRS])
+    C.pair_hit[:n] = HIT_TOUCH
+    C.pair_gap[:n][C.pair_con[:n] >= 0] = 0.0
+    O.save(str(path))
+    O.reset()
+    O.load(str(path))
+    hits, budgets = _detection_state(O._scene)
+    assert not hits.any() and np.isposinf(budgets).all()
+    O.run(100, True)
+    got = O.bodies.arrays("pos", "vel", "angVel")
+    for k in ("ids", "pos", "vel", "angVel"):
+        assert np.array_equal(got[k], expected[k]), k
