@@ -78,6 +78,20 @@ def test_negative_mass_and_massless_free_body_are_refused(yade):
     assert yade.O.iter == 1
 
 
+@pytest.mark.parametrize("period", [1, 3])
+def test_a_mass_taken_away_during_a_run_stops_it_before_compiled_code_divides_by_it(yade, period):
+    """A PyRunner zeroes a free sphere's mass at step 3: the run stops with the error before the next step's
+    compiled engines run (the clock stands after step 3), whether the runner goes step by step or in chunks."""
+    yade.O.bodies.append([yade.sphere((0, 0, 0), 1), yade.sphere((5, 0, 0), 1)])
+    yade.O.engines = frict_engines(yade, gravity=(0, 0, -10)) + [yade.PyRunner(
+        iterPeriod=period, initRun=True, command="if O.iter == 3: O.bodies[1].state.mass = 0")]
+    yade.O.dt = 1e-3
+    with pytest.raises(yade.SimulationError, match="body 1 has mass 0"):
+        yade.O.run(10, True)
+    assert yade.O.iter == 4
+    assert np.isfinite(np.asarray(yade.O.bodies[1].state.vel)).all()
+
+
 @pytest.mark.parametrize("where", ["center", "pos", "vel", "angVel", "color"])
 def test_nan_coordinates_are_refused(yade, where):
     """NaN in positions, velocities or colours raises ValueError naming the attribute; nothing changes."""

@@ -68,3 +68,25 @@ def test_new_functor_list_and_matchmaker_edits_take_effect(yade):
     O.interactions.erase(0, 1)
     O.run(2, True)
     assert O.interactions[0, 1].phys.tangensOfFrictionAngle == pytest.approx(math.tan(0.4))
+
+
+def test_edits_made_by_a_python_engine_during_a_run_take_effect_at_the_next_step(yade):
+    """Within one O.run, a PyRunner at every step switches on detection at a distance at step 5 (an attribute of
+    the loop's geometry functor: parameters kept while no attribute anywhere is assigned) and changes the
+    integrator's gravity in place at step 8 (a vector's item, no assignment: its parameters are its values): the
+    contact exists from step 6 on, and the free sphere's velocity follows the new gravity from step 9 on."""
+    O = yade.O
+    _two_spheres(yade)
+    O.bodies.append(yade.sphere((5, 0, 0), 0.5))
+    O.engines[1].boundDispatcher.functors[0].aabbEnlargeFactor = 1.5
+    command = ("log.append((O.iter, O.interactions.countReal(), O.bodies[2].state.vel[2]))\n"
+               "if O.iter == 5: O.engines[2].geomDispatcher.functors[0].interactionDetectionFactor = 1.5\n"
+               "if O.iter == 8: O.engines[3].gravity[2] = -20")
+    O.engines = O.engines[:3] + [yade.NewtonIntegrator(damping=0, gravity=(0, 0, -10)),
+                                 yade.PyRunner(initRun=True, iterPeriod=1, command=command)]
+    log = []
+    yade.O._namespace = {"O": O, "log": log}
+    O.run(12, True)
+    assert [c for _, c, _ in log] == [0] * 6 + [1] * 6
+    dv = [b - a for (_, _, a), (_, _, b) in zip(log[:-1], log[1:], strict=True)]
+    assert dv[:8] == pytest.approx([-10 * O.dt] * 8) and dv[8:] == pytest.approx([-20 * O.dt] * 3)

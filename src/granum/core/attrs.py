@@ -84,6 +84,8 @@ class Attributed:
             value = a.convert(self, value)
         object.__setattr__(self, name, value)
         object.__setattr__(self, "_edits", self._edits + 1)
+        global _assignments
+        _assignments += 1
         self._changed(name)
 
     def _changed(self, name: str) -> None:
@@ -216,6 +218,18 @@ def one_of(name: str, allowed: tuple):
         return int(value)
 
     return convert
+
+
+#: assignments to declared attributes of all Attributed objects so far (:func:`assignments`)
+_assignments = 0
+
+
+def assignments() -> int:
+    """How many declared attributes of all Attributed objects were assigned so far: while it stays the same, no
+    :func:`edit_token` has changed. A PeriodicEngine's schedule (``iterLast``, ``nDone``...) counts in its own
+    edit count only: it is set at every step its engine may be due, and no parameters kept on this count read it
+    (:attr:`granum.engines.base.Engine.key_from_edits`)."""
+    return _assignments
 
 
 def edit_token(obj: Attributed, held: list) -> tuple:

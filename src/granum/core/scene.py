@@ -36,6 +36,7 @@ from granum.core.contacts import (
     C_CONTACTS,
     COLLIDE_APPENDED,
     COLLIDE_FULL,
+    CONTACTS,
     FLAG_ALIVE,
     I_FLAGS,
     I_GEOM,
@@ -122,6 +123,7 @@ class Scene(BodyStore):
         self.detection_key = ""
         self._mat_cache = None
         self._record = None   # (ids of the arrays, the record made of them): see arrays()
+        self._contacts_record = None   # (contacts, the record they came from): see take_contacts()
         self._contact_functors: dict = {}   # see contact_functors()
 
     # ---- clock ----------------------------------------------------------------------
@@ -277,6 +279,20 @@ class Scene(BodyStore):
             self._record = (key, SCENE.to_record([values[n] for n in SCENE.names]))
         return self._record[1]
 
+    def contacts_record(self):
+        """Record of :attr:`contacts` for the kernels: the one they came back in (:meth:`take_contacts`), while
+        they are still those, or a new one."""
+        kept = self._contacts_record
+        if kept is not None and kept[0] is self.contacts:
+            return kept[1]
+        return CONTACTS.to_record(self.contacts)
+
+    def take_contacts(self, record) -> None:
+        """Take :attr:`contacts` back from a kernels' record (they may have replaced arrays in it)."""
+        self.contacts = CONTACTS.from_record(record)
+        self._contacts_record = (self.contacts, record)
+
     def forget_record(self) -> None:
-        """Drop the record kept by :meth:`arrays`."""
+        """Drop the records kept by :meth:`arrays` and :meth:`take_contacts`."""
         self._record = None
+        self._contacts_record = None

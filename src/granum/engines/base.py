@@ -42,6 +42,13 @@ class Engine(Attributed):
         by keyword (``engines``: the whole engine list). A stage without parameters gets ``()``."""
         return ()
 
+    #: Whether :meth:`params_key` reads nothing but the edit tokens of Attributed objects
+    #: (:func:`granum.core.attrs.edit_token`) and the scene's values in :meth:`Runner.scene_stamp
+    #: <granum.engines.runner.Runner.scene_stamp>`: while no declared attribute anywhere was assigned
+    #: (:func:`granum.core.attrs.assignments`) and those values stay, the runner keeps the parameters without
+    #: computing the key.
+    key_from_edits: bool = False
+
     def params_key(self, scene, held: list):
         """None, or a key such that :meth:`params` gives the same parameters while it is equal: the runner then
         keeps them from chunk to chunk instead of building them anew (a run with a Python engine due at every

@@ -164,6 +164,8 @@ class InsertionSortCollider(GlobalEngine):
     def functors(self) -> list:
         return list(self.boundDispatcher.functors)
 
+    key_from_edits = True
+
     def params_key(self, scene, held: list) -> tuple | None:
         """The collider's parameters come from its attributes and bound functors and whether the cell is
         periodic; None with a functor that has a Python side (:func:`python_sided`)."""
@@ -235,6 +237,8 @@ class InteractionLoop(GlobalEngine):
         key = tuple(tuple(type(f) for f in d.functors) for d in (self.geomDispatcher, self.physDispatcher,
                                                                    self.lawDispatcher))
         return {name: a.copy() for name, a in _dispatch_tables(*key, len(registry.MATERIALS)).items()}
+
+    key_from_edits = True
 
     def params_key(self, scene, held: list) -> tuple | None:
         """The loop's parameters come from its functors (and their MatchMakers), the scene's materials, the
@@ -354,6 +358,11 @@ class NewtonIntegrator(GlobalEngine):
                          "velocity and position)", to_int("mask")),
         "prevVelGrad": Attr(Matrix3.Zero, "Velocity gradient of the periodic cell at the previous step [1/s]"),
     }
+
+    def params_key(self, scene, held: list) -> tuple:
+        """The integrator's parameters are its attributes' values (the gravity vector read, not its edit count: a
+        vector changed in place counts too)."""
+        return self.damping, self.gravity._a.tolist(), self.dampGravity, self.mask
 
     def params(self, scene, engines) -> NewtonParams:
         return NewtonParams(gravity=np.array(self.gravity._a, dtype=np.float64), damping=float(self.damping),

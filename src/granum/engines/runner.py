@@ -22,6 +22,7 @@ import numpy as np
 from granum._jit import ITEMS, PARALLEL_THRESHOLD, PARALLEL_THRESHOLD_CONTACTS, call
 from granum.core import heap
 from granum.core.arrays import SI_HOOK
+from granum.core.attrs import assignments
 from granum.core.contacts import (
     C_COLLIDER_RUNS,
     C_CONTACTS,
@@ -29,7 +30,6 @@ from granum.core.contacts import (
     C_ERR_B,
     C_PAIRS,
     C_STATUS,
-    CONTACTS,
 )
 from granum.core.records import Record
 from granum.engines import interrupts
@@ -37,8 +37,9 @@ from granum.engines.base import PeriodicEngine
 from granum.engines.status import status_message
 from granum.kernels import steploop
 from granum.kernels.cell import step_begin, step_end
+from granum.kernels.newton import first_massless_free_body
 from granum.kernels.static import Static
-from granum.physics import cpm
+from granum.physics import cpm, registry
 
 #: Longest wall-clock time of one compiled chunk [s].
 CHUNK_SECONDS = 0.25
@@ -91,6 +92,10 @@ class Plan:
         self.python = [e for e in self.live if e.stage is None]
         self.segments = [[e.stage for e in seg] for seg in segments]
         self.key = plan_key(engines)
+        #: the compiled engines with the collider's counters (YADE's numAction, numReinit)
+        self.counted = [e for e in self.compiled if "numAction" in e._attrs]
+        #: the stages' time array of an untimed chunk (zeros, never written)
+        self.untimed = np.zeros((len(self.compiled), 2), np.int64)
         self._loops: dict = {}
         self._type_keys: dict = {}   # id -> (object, type key): see _known_type_key
 
@@ -113,11 +118,9 @@ class Plan:
 
     def _known_type_key(self, value):
         """:func:`_type_key` of ``value``, remembered for the stages' parameters (named tuples) of the last
-        chunks: the engines keep theirs while nothing changed (:meth:`Runner.params`), and the same object's
-        type cannot have changed. The remembered objects are kept, so that their ids stay theirs (a few small
-        arrays each; records, which hold the scene's arrays, are typed afresh: that is cheap)."""
-        if type(value) is tuple:   # the parameters of all stages: stage by stage
-            return tuple(self._known_type_key(v) for v in value)
+        chunks and the tuple of them: the engines keep theirs while nothing changed (:meth:`Runner.params`), and the
+        same object's type cannot have changed. The remembered objects are kept, so that their ids stay theirs (a
+        few small arrays each; records, which hold the scene's arrays, are typed afresh: that is cheap)."""
         if not isinstance(value, tuple):
             return _type_key(value)
         kept = self._type_keys.get(id(value))
@@ -125,7 +128,8 @@ class Plan:
             return kept[1]
         if len(self._type_keys) >= 64:
             self._type_keys.clear()
-        key = _type_key(value)
+        # the parameters of all stages (a plain tuple): stage by stage
+        key = tuple(self._known_type_key(v) for v in value) if type(value) is tuple else _type_key(value)
         self._type_keys[id(value)] = (value, key)
         return key
 
@@ -177,6 +181,7 @@ class Runner:
         # chunk is one step and O.pause(), Ctrl-C and realPeriod are honoured from the start
         self._step_seconds = CHUNK_SECONDS
         self._trimmed_at = 0
+        self._last_params: tuple | None = None   # see params()
 
     def plan(self) -> Plan:
         engines = self.scene.engines
@@ -188,37 +193,57 @@ class Runner:
     def params(self, plan: Plan) -> tuple:
         """The compiled engines' parameters, built anew before every chunk of steps, but for engines whose
         :meth:`params_key <granum.engines.base.Engine.params_key>` is the same as for the last ones they gave in
-        this scene and plan (the step loop's types are then known: :meth:`Plan.run_steps`)."""
+        this scene and plan (the step loop's types are then known: :meth:`Plan.run_steps`); for an engine whose
+        key is made of edit tokens (:attr:`~granum.engines.base.Engine.key_from_edits`), without computing it
+        while :meth:`scene_stamp` stays. When every engine keeps its parameters, so does the tuple of them."""
         out = []
+        stamp = self.scene_stamp()
         for k, e in enumerate(plan.compiled):
             object.__setattr__(e, "_plan_index", k + 1)  # what a stage writes to SI_HOOK to call back
-            held: list = []
-            key = e.params_key(self.scene, held)
-            if key is not None:   # the scene and the plan compare by identity
-                key = (k, self.scene, plan, key)
             kept = e.__dict__.get("_params_kept")
-            if key is not None and kept is not None and kept[0] == key:
+            where = (k, self.scene, plan)   # the scene and the plan compare by identity
+            if e.key_from_edits and kept is not None and kept[3] == stamp and kept[0][:3] == where:
                 out.append(kept[1])
                 continue
+            held: list = []
+            key = e.params_key(self.scene, held)
+            if key is None:
+                e.__dict__.pop("_params_kept", None)
+            else:
+                key = (*where, key)
+                if kept is not None and kept[0] == key:
+                    object.__setattr__(e, "_params_kept", (key, kept[1], kept[2], stamp))
+                    out.append(kept[1])
+                    continue
             p = e.params(self.scene, plan.engines)
             if key is not None:
-                object.__setattr__(e, "_params_kept", (key, p, held))
+                object.__setattr__(e, "_params_kept", (key, p, held, stamp))
             out.append(p)
-        return tuple(out)
+        last = self._last_params
+        if last is not None and len(last) == len(out) and all(a is b for a, b in zip(last, out, strict=True)):
+            return last   # the same object: the step loop's types are known by its identity (Plan._known_type_key)
+        self._last_params = out = tuple(out)
+        return out
 
-    def check_scene(self) -> None:
-        """Errors that would otherwise surface as NaN inside the kernels."""
+    def scene_stamp(self) -> tuple:
+        """What the keys of engines with :attr:`~granum.engines.base.Engine.key_from_edits` read besides edit
+        tokens: the assignments so far (:func:`granum.core.attrs.assignments`), the registrations, the scene's
+        materials (their versions follow their assignments), periodicity, energy tracking and the functors of
+        its contacts when the plan began."""
+        scene = self.scene
+        return (assignments(), registry.functor_generation, len(registry.MATERIALS), tuple(scene.materials),
+                scene.periodic, scene.track_energy, scene._contact_functors)
+
+    def check_scene(self, S) -> None:
+        """Errors that would otherwise surface as NaN inside the kernels, checked before compiled code runs with
+        the scene's record ``S``."""
         b = self.scene.bodies
         i = cpm.body_without_state(b, self.scene.materials)
         if i >= 0:
             raise SimulationError(f"body {i} has a CpmMat material but a plain State; the concrete model needs a "
                                   f"CpmState (give it CpmState(), or make it with utils.sphere)")
-        n = b.count
-        standalone = (b.clump_id[:n] < 0) | (b.clump_id[:n] == np.arange(n))  # clump members move with the clump
-        free = b.alive[:n] & (b.blocked[:n] & 0b111 != 0b111) & standalone
-        bad = np.nonzero(free & ~(b.mass[:n] > 0))[0]
-        if bad.size:
-            i = int(bad[0])
+        i = call(first_massless_free_body, S)
+        if i >= 0:
             raise SimulationError(f"body {i} has mass {b.mass[i]} but free translational DOFs; "
                                   f"give it a positive mass (density) or block its DOFs (fixed=True)")
 
@@ -265,7 +290,6 @@ class Runner:
         """Run at most ``limit`` steps (at least one unless ``stop_time`` is reached); return the count."""
         scene = self.scene
         plan = self.plan()
-        self.check_scene()
         if abs(scene.body_count - self._trimmed_at) >= TRIM_BODIES:  # a large scene was just built
             heap.trim()
             self._trimmed_at = scene.body_count
@@ -277,13 +301,14 @@ class Runner:
             timing, times = self.timing(plan)
             t0 = time.perf_counter()
             PP = self.params(plan)
+            S = scene.arrays()   # after the parameters: a functor's prepare may add columns (granum.physics.cpm)
+            self.check_scene(S)
             with interrupts.shielded():   # the contacts go back to the scene whatever Ctrl-C does meanwhile
-                S = scene.arrays()
-                C = CONTACTS.to_record(scene.contacts)
+                C = scene.contacts_record()
                 done, why = plan.run_steps(m, -1, S, C, PP, float(stop_time), virt_last, virt_period, timing,
                                            times, serial=self.serial(plan))
-                scene.contacts = CONTACTS.from_record(C)
-            self.sync_counters(plan, times)
+                scene.take_contacts(C)
+            self.sync_counters(plan, timing, times)
             if done:
                 self._step_seconds = max((time.perf_counter() - t0) / done, 1e-9)
             if why == steploop.WHY_ERROR:
@@ -296,61 +321,81 @@ class Runner:
         return 1
 
     def timing(self, plan: Plan) -> tuple[bool, np.ndarray]:
-        """Whether stages are timed (``O.timingEnabled``), and the (stages, 2) array they add to."""
-        return bool(getattr(self.omega, "timingEnabled", False)), np.zeros((len(plan.compiled), 2), np.int64)
+        """Whether stages are timed (``O.timingEnabled``), and the (stages, 2) array they add to (untimed, the
+        plan's array of zeros, which the stages leave alone)."""
+        if getattr(self.omega, "timingEnabled", False):
+            return True, np.zeros((len(plan.compiled), 2), np.int64)
+        return False, plan.untimed
 
-    def sync_counters(self, plan: Plan, times: np.ndarray) -> None:
+    def sync_counters(self, plan: Plan, timing: bool, times: np.ndarray) -> None:
         """Copy the kernels' counters into the engines' read-only YADE attributes, and add the stages'
-        measured times (ns) and runs to their ``execTime`` and ``execCount``."""
-        runs = int(self.scene.contacts.ctr[C_COLLIDER_RUNS])
-        for k, e in enumerate(plan.compiled):
-            if "numAction" in e._attrs:
+        measured times (ns) and runs to their ``execTime`` and ``execCount`` (``timing``: they were timed)."""
+        if plan.counted:
+            runs = int(self.scene.contacts.ctr[C_COLLIDER_RUNS])
+            for e in plan.counted:
                 object.__setattr__(e, "numAction", runs)
                 object.__setattr__(e, "numReinit", runs)
-            if times[k, 1]:
-                e.execTime += int(times[k, 0])
-                e.execCount += int(times[k, 1])
+        if timing:
+            for k, e in enumerate(plan.compiled):
+                if times[k, 1]:
+                    e.execTime += int(times[k, 0])
+                    e.execCount += int(times[k, 1])
 
     def slow_step(self, plan: Plan) -> None:
         """One step, segment by segment, with the Python engines that are due."""
-        call(step_begin, self.scene.arrays())
+        self.step_begin()
+        S = None
         try:
             for k in range(len(plan.items)):
                 self.sub_step = plan.first_engine[k]
-                self.run_item(plan, k)
+                S = self.run_item(plan, k, S)
         finally:
             self.sub_step = -1
-        self.end_step(plan)
+        self.end_step(plan, S)
 
-    def run_item(self, plan: Plan, k: int) -> None:
-        """Item ``k`` of a step: a compiled segment, or a Python engine if it is due."""
+    def run_item(self, plan: Plan, k: int, S=None):
+        """Item ``k`` of a step: a compiled segment, or a Python engine if it is due. Returns the scene's record a
+        segment ran with, while nothing else could have changed the scene (None once Python code ran: an engine,
+        a hook); ``S``: that of the item before (a segment takes it anew all the same, after its parameters)."""
         scene = self.scene
         kind, item = plan.items[k]
         if kind == "segment":
             timing, times = self.timing(plan)
             PP = self.params(plan)
+            S = scene.arrays()   # after the parameters: a functor's prepare may add columns (granum.physics.cpm)
+            self.check_scene(S)
             with interrupts.shielded():
-                S = scene.arrays()
-                C = CONTACTS.to_record(scene.contacts)
+                C = scene.contacts_record()
                 plan.run_steps(0, item, S, C, PP, np.inf, _NONE, _NONE, timing, times, serial=self.serial(plan))
-                scene.contacts = CONTACTS.from_record(C)
-            self.sync_counters(plan, times)
+                scene.take_contacts(C)
+            self.sync_counters(plan, timing, times)
             if scene.contacts.ctr[C_STATUS]:
                 self.raise_status()
             for e in plan.compiled:   # the Python engines after this segment see what these hooks add
                 if e.hook_due():
                     e.run_hook(self.omega)
-        elif not item.dead and item.due(scene):
+                    S = None
+            return S
+        if not item.dead and item.due(scene):
             t0 = time.perf_counter_ns()
             with interrupts.user_code():
                 item.run_python(self.omega)
             if self.omega.timingEnabled:
                 item.execTime += time.perf_counter_ns() - t0
                 item.execCount += 1
+            return None
+        return S
 
-    def end_step(self, plan: Plan) -> None:
-        """The end of a step run item by item: the clock and the cell advance, then the hooks stages asked for."""
-        call(step_end, self.scene.arrays())
+    def step_begin(self) -> None:
+        """The beginning of a step run item by item: a periodic cell deforms (:func:`granum.kernels.cell.step_begin`,
+        which does nothing else)."""
+        if self.scene.periodic:
+            call(step_begin, self.scene.arrays())
+
+    def end_step(self, plan: Plan, S=None) -> None:
+        """The end of a step run item by item: the clock and the cell advance, then the hooks stages asked for.
+        ``S``: the scene's record, if nothing changed the scene since it was taken (None: take it)."""
+        call(step_end, self.scene.arrays() if S is None else S)
         self.run_hooks(plan)
 
     def substep(self) -> None:
@@ -360,8 +405,7 @@ class Runner:
         if self.sub_step < 0:
             self.sub_plan = Plan(self.scene.engines, one_stage_per_segment=True)
             self.scene.note_contact_functors()
-            self.check_scene()
-            call(step_begin, self.scene.arrays())
+            self.step_begin()
             self.sub_step = 0
         elif self.sub_step < len(self.sub_plan.items):
             self.run_item(self.sub_plan, self.sub_step)

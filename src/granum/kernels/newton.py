@@ -365,3 +365,15 @@ def newton_stage(S, C, P):
         S.energy[E_GRAV_WORK] += grav_work  # YADE lists gravWork even without gravity
         S.energy_set[E_GRAV_WORK] = 1
 
+
+
+@jit
+def first_massless_free_body(S):
+    """The first live body with a free translational DOF whose mass is not positive, or -1 (the leapfrog divides
+    by the mass: the runner refuses such a body before a run). A clump member is left out: it moves with its
+    clump."""
+    blocked, clump_id, mass = S.blocked, S.clump_id, S.mass
+    for i in range(S.iscal[SI_NBODIES]):
+        if S.alive[i] and blocked[i] & 7 != 7 and (clump_id[i] < 0 or clump_id[i] == i) and not mass[i] > 0.0:
+            return i
+    return -1
