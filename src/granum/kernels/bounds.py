@@ -68,6 +68,16 @@ def body_motion(i, S):
     return math.sqrt(dx * dx + dy * dy + dz * dz) + w
 
 
+@jit(inline="always")  # per candidate pair: no call
+def bounds_overlap(S, i, j):
+    """Whether the bounds of bodies ``i`` and ``j`` overlap (touching counts). A bound not taken yet (NaN) or an
+    empty one (inf, -inf: a body without a bound functor) overlaps none."""
+    for k in range(3):
+        if not (S.bound_min[i, k] <= S.bound_max[j, k] and S.bound_min[j, k] <= S.bound_max[i, k]):
+            return False
+    return True
+
+
 @jit
 def moved_block(b, S, nb, flags):
     """Flag block ``b`` of bodies if one of them left its Verlet-enlarged bound."""

@@ -51,7 +51,7 @@ from granum.core.contacts import (
 )
 from granum.core.records import RecordSpec, borrow, raw
 from granum.core.shapes import ShapeKind
-from granum.kernels.bounds import any_body_moved, compute_bounds, compute_bounds_par
+from granum.kernels.bounds import any_body_moved, bounds_overlap, compute_bounds, compute_bounds_par
 from granum.kernels.collider_append import append_bodies
 from granum.kernels.collider_periodic import find_pairs_periodic
 from granum.kernels.copy import copy_rows
@@ -60,14 +60,6 @@ from granum.kernels.schedule import block_queue, next_block, queue_workers
 from granum.kernels.scratch import area, take_u1, words_u1
 from granum.kernels.sorting import argsort_keys, lower_bound, median
 from granum.kernels.static import Static, static_value
-
-
-@jit(inline="always")  # per body or per candidate: no call
-def overlap(S, i, j):
-    for k in range(3):
-        if S.bound_min[i, k] > S.bound_max[j, k] or S.bound_min[j, k] > S.bound_max[i, k]:
-            return False
-    return True
 
 
 @jit(inline="always")  # per body or per candidate: no call
@@ -172,7 +164,7 @@ def small_in_cells(i, S, grid, avoid_self, first, last, n, base, cap, out):
 def listed_partners(i, S, ids, avoid_self, n, base, cap, out):
     """Partners j > i of body ``i`` among the bodies ``ids`` (in id order)."""
     for j in ids:
-        if j > i and overlap(S, i, j) and may_collide(S, i, j, avoid_self):
+        if j > i and bounds_overlap(S, i, j) and may_collide(S, i, j, avoid_self):
             n = add_partner(j, n, base, cap, out)
     return n
 
@@ -194,7 +186,7 @@ def small_partners(i, S, grid, avoid_self, base, cap, out):
                     a, b = cell_run(key, key, grid.large_keys, grid.large_dense)
                     for t in range(a, b):
                         j = grid.large_order[t]
-                        if j <= i or not overlap(S, i, j):
+                        if j <= i or not bounds_overlap(S, i, j):
                             continue
                         u0, v0, w0, _, _, _ = cell_span(S, j, grid.lo, grid.h[0], dims)
                         if cx == max(x0, u0) and cy == max(y0, v0) and cz == max(z0, w0) and \
@@ -225,7 +217,7 @@ def partners_of(i, S, nb, grid, avoid_self, base, cap, out):
     else:
         n = 0
         for j in range(i + 1, nb):  # in id order: already sorted
-            if S.bound_min[j, 0] <= S.bound_max[j, 0] and overlap(S, i, j) and may_collide(S, i, j, avoid_self):
+            if S.bound_min[j, 0] <= S.bound_max[j, 0] and bounds_overlap(S, i, j) and may_collide(S, i, j, avoid_self):
                 n = add_partner(j, n, base, cap, out)
         return n
     if n <= cap:

@@ -27,7 +27,7 @@ from granum._jit import jit
 from granum.core.arrays import S_VERLET
 from granum.core.contacts import C_COLLIDE, C_COLLIDER_RUNS, C_PAIRS, I_PAIR
 from granum.core.shapes import ShapeKind
-from granum.kernels.bounds import any_body_moved, bound_body
+from granum.kernels.bounds import any_body_moved, bound_body, bounds_overlap
 from granum.kernels.pairing import may_collide
 from granum.kernels.sorting import argsort_keys
 
@@ -80,12 +80,7 @@ def new_pairs(S, nb, new, avoid_self):
         for j in range(nb):
             if j == a or (is_new[j] and j < a):  # a pair of two new bodies is found once, from its smaller id
                 continue
-            hit = True
-            for d in range(3):  # NaN (no bound yet) or an empty bound (inf, -inf) never overlaps
-                if not (S.bound_min[a, d] <= S.bound_max[j, d] and S.bound_min[j, d] <= S.bound_max[a, d]):
-                    hit = False
-                    break
-            if hit and may_collide(S, min(a, j), max(a, j), avoid_self):
+            if bounds_overlap(S, a, j) and may_collide(S, min(a, j), max(a, j), avoid_self):
                 if k == found.shape[0]:
                     grown = np.empty((2 * k, 2), np.int32)
                     grown[:k] = found
