@@ -11,6 +11,7 @@ writes attached and detached objects.
 from __future__ import annotations
 
 import hashlib
+import weakref
 
 import numpy as np
 
@@ -95,11 +96,26 @@ def default_tags() -> dict:
     return {"author": author, "isoTime": now.strftime("%Y%m%dT%H%M%S"), "id": sid, "d.id": sid, "id.d": sid}
 
 
+def _forgetter(scene):
+    """A function that calls ``scene.forget_record()`` while the scene exists (it keeps no reference to it)."""
+    ref = weakref.ref(scene)
+
+    def forget() -> None:
+        alive = ref()
+        if alive is not None:
+            alive.forget_record()
+
+    return forget
+
+
 class Scene(BodyStore):
     """Storage, clock and engines of one simulation (what YADE's ``O`` refers to)."""
 
     def __init__(self):
         super().__init__(capacity=64)
+        self._record = None   # (ids of the arrays, the record made of them): see arrays()
+        self._contacts_record = None   # (contacts, the record they came from): see take_contacts()
+        self._forget = _forgetter(self)   # see arrays()
         self.contacts = new_contact_arrays(0)
         self.scal = np.zeros(NSCAL)
         self.iscal = np.zeros(NSISCAL, np.int64)
@@ -122,9 +138,14 @@ class Scene(BodyStore):
         #: digest of the geometry functors and parameters the pairs' detection budgets were computed with
         self.detection_key = ""
         self._mat_cache = None
-        self._record = None   # (ids of the arrays, the record made of them): see arrays()
-        self._contacts_record = None   # (contacts, the record they came from): see take_contacts()
         self._contact_functors: dict = {}   # see contact_functors()
+
+    def __setattr__(self, name: str, value) -> None:
+        if name == "contacts":   # other contacts: the record kept of the last ones would keep their arrays alive
+            kept = self.__dict__.get("_contacts_record")
+            if kept is not None and kept[0] is not value:
+                object.__setattr__(self, "_contacts_record", None)
+        object.__setattr__(self, name, value)
 
     # ---- clock ----------------------------------------------------------------------
     @property
@@ -249,10 +270,11 @@ class Scene(BodyStore):
         """Record of all scene arrays for the kernels (cheap; call again after any edit).
 
         The record is kept while it is made of the same arrays (compiled code never replaces the
-        scene's arrays), so a run with a Python engine every few steps does not rebuild it at every
-        chunk; :meth:`forget_record` drops it at the end of a run, so that it keeps no replaced
-        array alive. The tables say whether their arrays are the same (:attr:`Table.generation`); the
-        other arrays are identified by their ids, which stay theirs while the record holds them."""
+        scene's arrays), so a run with a Python engine every few steps, or a loop of ``O.step()``, does not
+        rebuild it at every chunk; a table whose column is replaced drops it (:meth:`forget_record`, through
+        ``Table.on_replace``), so that it keeps no replaced array alive. The tables say whether their arrays
+        are the same (:attr:`Table.generation`); the other arrays are identified by their ids, which stay
+        theirs while the record holds them."""
         b = self.bodies
         self.iscal[SI_NBODIES] = b.count
         self.contacts = resize_for_bodies(self.contacts, b.count)
@@ -277,11 +299,13 @@ class Scene(BodyStore):
                           clump_members=self.clump_members.id,
                           scal=self.scal, iscal=self.iscal, energy=self.energy, energy_set=self.energy_set)
             self._record = (key, SCENE.to_record([values[n] for n in SCENE.names]))
+            for table in tables:   # a column replaced (growth, a lazy column's first use) drops the record
+                table.on_replace = self._forget
         return self._record[1]
 
     def contacts_record(self):
         """Record of :attr:`contacts` for the kernels: the one they came back in (:meth:`take_contacts`), while
-        they are still those, or a new one."""
+        they are still those (assigning others drops it), or a new one."""
         kept = self._contacts_record
         if kept is not None and kept[0] is self.contacts:
             return kept[1]
@@ -293,6 +317,6 @@ class Scene(BodyStore):
         self._contacts_record = (self.contacts, record)
 
     def forget_record(self) -> None:
-        """Drop the records kept by :meth:`arrays` and :meth:`take_contacts`."""
+        """Drop the record kept by :meth:`arrays` (a table's column was replaced: the record would keep the old
+        array alive)."""
         self._record = None
-        self._contacts_record = None

@@ -54,6 +54,9 @@ class Table:
 
     def __init__(self, columns: tuple[Column, ...], capacity: int = 8):
         self.generation = 0
+        #: called (without arguments) whenever a column array is set, before it is: its owner's record of the old
+        #: arrays must go (:meth:`granum.core.scene.Scene.forget_record`); None: nothing to call
+        self.on_replace = None
         self._columns = {c.name: c for c in columns}
         self.count = 0
         self._capacity = 0
@@ -65,6 +68,8 @@ class Table:
     def __setattr__(self, name: str, value) -> None:
         if name in self.__dict__.get("_columns", ()):
             object.__setattr__(self, "generation", self.generation + 1)
+            if self.on_replace is not None:
+                self.on_replace()
         object.__setattr__(self, name, value)
 
     def __getattr__(self, name: str):

@@ -517,7 +517,6 @@ class Omega:
             self._speed = (scene.iter - first) / elapsed if elapsed > 0 else 0.0
             self._stop = False
             self._end_run()
-            scene.forget_record()
             if progress is not None:
                 progress.finish(scene.iter - first)
 
@@ -597,7 +596,6 @@ class Omega:
         finally:
             if not nested:
                 self._end_run()
-                self._scene.forget_record()
 
     # ---- scenes --------------------------------------------------------------------------
     def reset(self) -> None:

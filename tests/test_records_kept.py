@@ -1,0 +1,69 @@
+"""The records the runner hands to compiled code are kept between runs (a loop of ``O.step()`` does not build them
+anew at every call: core.scene.Scene.arrays, Scene.contacts_record), but never keep an array the scene no longer
+holds alive: a table that grows, contacts that are replaced, each frees the old arrays at once (checked with weak
+references and the garbage collector)."""
+
+from __future__ import annotations
+
+import gc
+import weakref
+
+import numpy as np
+from conftest import frict_engines
+
+
+def _pile(yade, n=8):
+    """``n`` spheres resting in a column on a fixed one: contacts from the first steps."""
+    O = yade.O
+    O.bodies.append([yade.sphere((0, 0, 2 * k * 0.099), 0.1, fixed=k == 0) for k in range(n)])
+    O.engines = frict_engines(yade, gravity=(0, 0, -10), damping=0.3)
+    O.dt = 0.5 * yade.PWaveTimeStep()
+
+
+def test_a_grown_table_frees_its_old_columns(yade):
+    """After steps, the body table grows (appended spheres): its old position column is freed at once, though no
+    run has taken the scene's record since; the next steps move the new spheres."""
+    O = yade.O
+    _pile(yade)
+    for _ in range(5):
+        O.step()
+    old = weakref.ref(O._scene.bodies.pos)
+    capacity = len(O._scene.bodies.pos)
+    O.bodies.append([yade.sphere((3, 0, k * 0.25), 0.1) for k in range(capacity)])
+    assert len(O._scene.bodies.pos) > capacity
+    gc.collect()
+    assert old() is None
+    z = O.bodies[len(O.bodies) - 1].state.pos[2]
+    O.run(10, True)
+    assert O.bodies[len(O.bodies) - 1].state.pos[2] < z
+
+
+def test_replaced_contacts_are_freed(yade):
+    """After steps with contacts, the bodies are cleared (new, empty contact arrays): the old contact pool is freed
+    at once; a new pile then makes its own contacts."""
+    O = yade.O
+    _pile(yade)
+    O.run(20, True)
+    assert O.interactions.countReal() > 0
+    old = weakref.ref(O._scene.contacts.con_f)
+    O.bodies.clear()
+    gc.collect()
+    assert old() is None
+    _pile(yade)
+    O.run(20, True)
+    assert O.interactions.countReal() > 0
+
+
+def test_steps_one_by_one_equal_one_run(yade):
+    """100 calls of O.step() (records kept from call to call) end in the same state, bit for bit, as O.run(100)."""
+    O = yade.O
+    _pile(yade)
+    for _ in range(100):
+        O.step()
+    stepped = O.bodies.arrays("pos", "vel", "angVel")
+    O.reset()
+    _pile(yade)
+    O.run(100, True)
+    ran = O.bodies.arrays("pos", "vel", "angVel")
+    for k in ("pos", "vel", "angVel"):
+        assert np.array_equal(stepped[k], ran[k]), k
