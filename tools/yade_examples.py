@@ -20,6 +20,8 @@ next to themselves), in a process of its own:
     python tools/yade_examples.py --reference test/helix.py   # real YADE -> tests/reference/yade/examples/<slug>.json
     python tools/yade_examples.py test/helix.py               # granum, compared with the committed reference
     python tools/yade_examples.py                             # every table entry under granum
+    python tools/yade_examples.py --spread 40 --program yade clumps/apply-buoyancy-clumps.py
+        # the spread of the probes over 40 runs (for the tolerances of scripts that draw unseeded random numbers)
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ import argparse
 import json
 import os
 import shutil
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -240,11 +243,36 @@ def _short(v) -> str:
     return text if len(text) <= 40 else text[:37] + "..."
 
 
+def print_spread(example: Example, program: str, runs: int, examples_dir: str) -> int:
+    """Run ``example`` ``runs`` times under ``program``; print each numeric probe's least, greatest, mean and
+    standard deviation over the runs and its lowest values. Returns how many runs failed."""
+    values: dict[str, list[float]] = {}
+    failed = 0
+    for _ in range(runs):
+        got = run(example, program, examples_dir)
+        if got["returncode"] != 0:
+            failed += 1
+            continue
+        for name, v in got.get("probes", {}).items():
+            if isinstance(v, (int, float)) and not isinstance(v, bool):
+                values.setdefault(name, []).append(float(v))
+    print(f"{example.path} under {program}: {runs - failed} of {runs} runs")
+    for name, v in values.items():
+        v.sort()
+        sd = statistics.stdev(v) if len(v) > 1 else 0.0
+        print(f"  {name}: {v[0]:.6g} .. {v[-1]:.6g}, mean {statistics.mean(v):.6g}, sd {sd:.3g}; lowest "
+              + ", ".join(f"{x:.6g}" for x in v[:4]))
+    return failed
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("paths", nargs="*", help="table entries (paths under the examples folder); all if none")
     parser.add_argument("--reference", action="store_true", help="run real YADE and write the reference JSON")
     parser.add_argument("--examples", default=EXAMPLES, help="YADE's examples folder")
+    parser.add_argument("--spread", type=int, default=0, metavar="N",
+                        help="run each script N times under --program and print its numeric probes' spread")
+    parser.add_argument("--program", choices=("granum", "yade"), default="granum", help="for --spread")
     args = parser.parse_args(argv)
     table = {e.path: e for e in load_table()}
     unknown = [p for p in args.paths if p not in table]
@@ -253,6 +281,9 @@ def main(argv: list[str] | None = None) -> int:
     failures = 0
     for path in args.paths or list(table):
         example = table[path]
+        if args.spread:
+            failures += print_spread(example, args.program, args.spread, args.examples)
+            continue
         if args.reference:
             ref = write_reference(example, args.examples)
             print(f"{path}: YADE ran {ref['iter']} steps -> {reference_path(example)}")
