@@ -99,18 +99,21 @@ class Plan:
         self._loops: dict = {}
         self._type_keys: dict = {}   # id -> (object, type key): see _known_type_key
 
-    def run_steps(self, *args, serial: frozenset = frozenset()):
-        """Run the compiled step loop ``run_steps(*args)`` (see :mod:`granum.kernels.steploop`); with ``serial``
-        (items, :data:`granum._jit.ITEMS`), the loop of the stages' variants serial over those items
-        (:meth:`Runner.serial`).
+    def run_steps(self, nmax: int, segment: int, S, C, PP: tuple, stop_time: float, virt_last: np.ndarray,
+                  virt_period: np.ndarray, timing: bool, times: np.ndarray, serial: frozenset = frozenset()):
+        """Run the compiled step loop (``run_steps`` of :mod:`granum.kernels.steploop`, whose docstring gives the
+        arguments); with ``serial`` (items, :data:`granum._jit.ITEMS`), the loop of the stages' variants serial
+        over those items (:meth:`Runner.serial`).
 
         The first time for the types of the scene, contacts and parameters, the functions the loop calls
         (the stages, the cell's step boundaries) are loaded from the disk cache or compiled, on two processes
         (:func:`granum.kernels.steploop.loop`), and the loop is generated to call their symbols (on the plain
         compile path, a Python loop calls their entry points). It is kept per argument types: calls skip Numba's
-        typing.
+        typing. The types of the other arguments never change (the runner passes Python integers, a float,
+        1-D float64 arrays, a bool and a 2-D int64 array), so the key is made of those three.
         """
-        key = tuple(self._known_type_key(a) for a in args), serial
+        key = self._known_type_key(S), self._known_type_key(C), self._known_type_key(PP), serial
+        args = (int(nmax), int(segment), S, C, PP, float(stop_time), virt_last, virt_period, bool(timing), times)
         loop = self._loops.get(key)
         if loop is None:
             loop = self._loops[key] = steploop.loop(self.segments, args, serial)
