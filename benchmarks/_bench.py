@@ -14,13 +14,14 @@ def env_int(name, default):
     return int(os.environ.get(name, str(default)))
 
 
-def measure(O, name, n_spheres, steps, warmup, t_script, extra=None):
+def measure(O, name, n_spheres, steps, warmup, t_script, extra=None, drive=None):
     """Run ``warmup`` untimed steps (collider's first run, granum's kernel compilation),
     then ``steps`` timed steps in one ``O.run(steps, True)``, and print one line
     ``BENCH name=... seconds=... steps_per_s=...`` for ``benchmarks/run`` to parse.
 
     ``t_script``: ``time.perf_counter()`` at the start of the script (set-up time is
     measured from it). ``extra``: callable returning ``{key: value}`` to append after the run.
+    ``drive``: callable running ``n`` steps, instead of ``O.run(n, True)``.
     """
     t_setup = time.perf_counter() - t_script
     t0 = time.perf_counter()
@@ -28,7 +29,10 @@ def measure(O, name, n_spheres, steps, warmup, t_script, extra=None):
         O.run(warmup, True)
     t_warmup = time.perf_counter() - t0
     t0 = time.perf_counter()
-    O.run(steps, True)
+    if drive is None:
+        O.run(steps, True)
+    else:
+        drive(steps)
     seconds = time.perf_counter() - t0
     rss_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0  # ru_maxrss is in kB on Linux
     fields = {
