@@ -10,6 +10,7 @@ instead of a silently ignored setting.
 from __future__ import annotations
 
 import difflib
+import itertools
 import math
 import numbers
 
@@ -85,7 +86,7 @@ class Attributed:
         object.__setattr__(self, name, value)
         object.__setattr__(self, "_edits", self._edits + 1)
         global _assignments
-        _assignments += 1
+        _assignments = next(_ASSIGNMENT_STAMPS)
         self._changed(name)
 
     def _changed(self, name: str) -> None:
@@ -220,15 +221,18 @@ def one_of(name: str, allowed: tuple):
     return convert
 
 
-#: assignments to declared attributes of all Attributed objects so far (:func:`assignments`)
+#: a new value for every assignment to a declared attribute of any Attributed object (:func:`assignments`)
+_ASSIGNMENT_STAMPS = itertools.count(1)
 _assignments = 0
 
 
 def assignments() -> int:
-    """How many declared attributes of all Attributed objects were assigned so far: while it stays the same, no
-    :func:`edit_token` has changed. A PeriodicEngine's schedule (``iterLast``, ``nDone``...) counts in its own
-    edit count only: it is set at every step its engine may be due, and no parameters kept on this count read it
-    (:attr:`granum.engines.base.Engine.key_from_edits`)."""
+    """The stamp of the last assignment to a declared attribute of any Attributed object: while it stays the same,
+    no :func:`edit_token` has changed. Each assignment stores a value never stored before (``next`` of a counter is
+    atomic; two threads assigning at once may store theirs out of order, but a stamp read after either store
+    differs from every stamp read before it). A PeriodicEngine's schedule (``iterLast``, ``nDone``...) counts in
+    its own edit count only: it is set at every step its engine may be due, and no parameters kept on this stamp
+    read it (:attr:`granum.engines.base.Engine.key_from_edits`)."""
     return _assignments
 
 

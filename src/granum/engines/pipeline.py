@@ -118,6 +118,7 @@ class InsertionSortCollider(GlobalEngine):
     """
 
     stage = "granum.kernels.collider:collider_stage"
+    key_from_edits = True   # params_key: edit tokens and scene values only (Engine.key_from_edits)
     _attrs = {
         "verletDist": Attr(-0.5, "Bound enlargement [m]; negative: fraction of the smallest sphere radius",
                            to_float("verletDist")),
@@ -163,8 +164,6 @@ class InsertionSortCollider(GlobalEngine):
 
     def functors(self) -> list:
         return list(self.boundDispatcher.functors)
-
-    key_from_edits = True
 
     def params_key(self, scene, held: list) -> tuple | None:
         """The collider's parameters come from its attributes and bound functors and whether the cell is
@@ -212,6 +211,7 @@ class InteractionLoop(GlobalEngine):
     """
 
     stage = "granum.kernels.interaction:interaction_stage"
+    key_from_edits = True   # params_key: edit tokens and scene values only (Engine.key_from_edits)
     _attrs = {
         "geomDispatcher": Attr(None, "The IGeom functors",
                                instance_of(IGeomDispatcher, "an IGeomDispatcher", "geomDispatcher")),
@@ -237,8 +237,6 @@ class InteractionLoop(GlobalEngine):
         key = tuple(tuple(type(f) for f in d.functors) for d in (self.geomDispatcher, self.physDispatcher,
                                                                    self.lawDispatcher))
         return {name: a.copy() for name, a in _dispatch_tables(*key, len(registry.MATERIALS)).items()}
-
-    key_from_edits = True
 
     def params_key(self, scene, held: list) -> tuple | None:
         """The loop's parameters come from its functors (and their MatchMakers), the scene's materials, the
