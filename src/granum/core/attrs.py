@@ -85,8 +85,7 @@ class Attributed:
             value = a.convert(self, value)
         object.__setattr__(self, name, value)
         object.__setattr__(self, "_edits", self._edits + 1)
-        global _assignments
-        _assignments = next(_ASSIGNMENT_STAMPS)
+        note_assignment()
         self._changed(name)
 
     def _changed(self, name: str) -> None:
@@ -224,6 +223,13 @@ def one_of(name: str, allowed: tuple):
 #: a new value for every assignment to a declared attribute of any Attributed object (:func:`assignments`)
 _ASSIGNMENT_STAMPS = itertools.count(1)
 _assignments = 0
+
+
+def note_assignment() -> None:
+    """Take a new :func:`assignments` stamp: every assignment to a declared attribute does, and so must a setter
+    that changes what an :func:`edit_token` would read without one (a dispatcher's functor list)."""
+    global _assignments
+    _assignments = next(_ASSIGNMENT_STAMPS)
 
 
 def assignments() -> int:

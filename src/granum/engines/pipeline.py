@@ -12,7 +12,7 @@ import functools
 
 import numpy as np
 
-from granum.core.attrs import Attr, edit_token, instance_of, only_default, to_bool, to_float, to_int
+from granum.core.attrs import Attr, edit_token, instance_of, note_assignment, only_default, to_bool, to_float, to_int
 from granum.core.contacts import TOTALS, contact_width, shared_columns
 from granum.core.shapes import ShapeKind
 from granum.engines.base import GlobalEngine
@@ -69,6 +69,7 @@ class Dispatcher:
             check_role(f, self.role, self._owner)
             by_types[f.spec.types] = f   # dict order: the first place, the last functor
         self._functors = list(by_types.values())
+        note_assignment()   # the engine's parameters kept on the assignment stamp are made of these
 
     def dispMatrix(self, names: bool = True) -> dict:
         """Which functor serves which pair of types."""

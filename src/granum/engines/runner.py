@@ -112,7 +112,7 @@ class Plan:
         typing. The types of the other arguments never change (the runner passes Python integers, a float,
         1-D float64 arrays, a bool and a 2-D int64 array), so the key is made of those three.
         """
-        key = self._known_type_key(S), self._known_type_key(C), self._known_type_key(PP), serial
+        key = (self._known_type_key(S), self._known_type_key(C), self._known_type_key(PP)), serial
         args = (int(nmax), int(segment), S, C, PP, float(stop_time), virt_last, virt_period, bool(timing), times)
         loop = self._loops.get(key)
         if loop is None:
