@@ -217,7 +217,7 @@ def partners_of(i, S, nb, grid, avoid_self, base, cap, out):
     else:
         n = 0
         for j in range(i + 1, nb):  # in id order: already sorted
-            if S.bound_min[j, 0] <= S.bound_max[j, 0] and bounds_overlap(S, i, j) and may_collide(S, i, j, avoid_self):
+            if bounds_overlap(S, i, j) and may_collide(S, i, j, avoid_self):   # none with a body without a bound
                 n = add_partner(j, n, base, cap, out)
         return n
     if n <= cap:

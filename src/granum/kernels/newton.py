@@ -366,7 +366,6 @@ def newton_stage(S, C, P):
         S.energy_set[E_GRAV_WORK] = 1
 
 
-
 @jit
 def first_massless_free_body(S):
     """The first live body with a free translational DOF whose mass is not positive, or -1 (the leapfrog divides
