@@ -9,6 +9,7 @@ returns (like ``yade -n -x``); ``-j N`` sets the number of compute threads;
 from __future__ import annotations
 
 import argparse
+import gc
 import importlib.abc
 import importlib.util
 import os
@@ -87,6 +88,12 @@ def run_script(path: str, argv: list[str], threads: int | None = None) -> None:
     install_yade_alias()
     import granum.yade as gy
 
+    # The modules imported so far (granum's, Numba's, NumPy's: about 90,000 tracked objects) live until the process
+    # ends. Frozen, the cyclic garbage collector no longer walks them, neither in the collections of a run nor in
+    # the several collections of the interpreter's exit, which took 0.2 s of a two-sphere script's 0.85.
+    # Objects the script makes are not frozen: their cycles are collected as ever (a file left open in one is
+    # still flushed at exit).
+    gc.freeze()
     with open(path, encoding="utf-8") as fh:
         source = fh.read()
     module = types.ModuleType("__main__")
