@@ -4,10 +4,10 @@
   that every kernel its scene needs is compiled (on two processes, see ARCHITECTURE.md, "Compilation"), and the
   example's 2e6 steps run. The wall time of the whole process counts.
 * **Cached start and one step**: ``bouncing_sphere.py`` with ``BENCH_STEPS=1 BENCH_WARMUP=0`` (two spheres, one
-  step), the whole process's wall time, with
-  granum's cache warm: one untimed run first compiles its code if needed and lets Python keep the bytecode of
-  granum's modules (``PYTHONDONTWRITEBYTECODE`` unset for that run: an installed package has its bytecode
-  compiled at install). YADE runs the same script, taking turns with granum.
+  step), the whole process's wall time, with granum's cache warm: one untimed run first compiles its code if
+  needed and lets Python keep the bytecode of granum's modules (``PYTHONDONTWRITEBYTECODE`` unset for that run:
+  an installed package has its bytecode compiled at install). YADE runs the same script, taking turns with
+  granum.
 
 The fastest run of each counts (``--repeat``; the first run at most twice, about 20 s each). Targets: the
 speed issue's, a first run within 8 s, a cached start and one step within 1 s.
