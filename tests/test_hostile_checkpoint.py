@@ -16,7 +16,7 @@ import pytest
 from conftest import frict_engines
 
 from granum.core.arrays import S_DT, SI_HOOK
-from granum.core.contacts import C_CONTACTS, I_LAW
+from granum.core.contacts import C_CONTACTS, C_REPLACED, I_LAW, NCTR
 from granum.io.checkpoint import CheckpointError
 from granum.io.checkpoint_formats import container_read, container_write, header_make, json_canonical
 
@@ -254,3 +254,31 @@ def test_an_existing_file_is_intact_after_a_refused_load(yade, saved, tmp_path):
     assert saved.read_bytes() == good
     yade.O.load(str(saved))
     assert yade.O.iter == 3 and os.path.exists(bad)
+
+
+def _counters(count: int):
+    """An edit giving the contacts' counters ``count`` entries (the first ones kept, any new ones zero)."""
+    def edit(meta, arrays):
+        ctr = arrays["scene/contacts/ctr"]
+        arrays["scene/contacts/ctr"] = np.concatenate([ctr, np.zeros(max(0, count - len(ctr)), ctr.dtype)])[:count]
+    return edit
+
+
+def test_more_counters_than_this_granum_has_are_refused(yade, saved, tmp_path):
+    """Compiled code reads every counter without bounds checks: a file with more of them is not this granum's."""
+    _refused(yade, _crafted(saved, tmp_path, _counters(NCTR + 1)), "contacts.ctr holds", f"this granum has {NCTR}")
+
+
+def test_a_checkpoint_with_fewer_counters_loads_with_the_missing_ones_zero(yade, saved, tmp_path):
+    """Earlier versions kept fewer counters (9 until C_REPLACED): such a checkpoint loads with the others zero, its
+    contact kept, and runs on as the saved scene does."""
+    O = yade.O
+    O.load(str(_crafted(saved, tmp_path, _counters(C_REPLACED))))
+    assert len(O._scene.contacts.ctr) == NCTR and O._scene.contacts.ctr[C_REPLACED] == 0
+    assert O.interactions.countReal() == 1
+    O.run(20, True)
+    older = O.bodies.arrays("pos", "vel")
+    O.load(str(saved))
+    O.run(20, True)
+    now = O.bodies.arrays("pos", "vel")
+    assert all(np.array_equal(older[k], now[k]) for k in ("pos", "vel"))

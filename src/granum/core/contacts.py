@@ -38,7 +38,10 @@ potential pairs are never real, so granum keeps them apart:
     gathered per body through this index, so the summation order is fixed and
     results do not depend on the number of threads.
 ``ctr``  (NCTR,) int64
-    Counters and status flags (``C_*`` constants).
+    Counters and status flags (``C_*`` constants). ``ctr[C_REPLACED]`` changes whenever compiled code replaces
+    one of these arrays (each place that does counts it): Python takes the arrays back from the kernels' record
+    only then (:meth:`granum.core.scene.Scene.take_contacts`). Checkpoints of versions with fewer counters load
+    with the missing ones zero.
 ``ended``  (NF,) float64
     Per ``con_f`` column, the sums over the contacts that ended of the columns that are running totals
     outliving their contact (:func:`register_totals`: YADE's law accumulators such as Hertz-Mindlin's
@@ -181,7 +184,8 @@ C_STATUS = 5       # STATUS_* of the last step
 C_ERR_A = 6        # first value describing the error (body id or code)
 C_ERR_B = 7        # second value describing the error
 C_COLLIDER_RUNS = 8
-NCTR = 9
+C_REPLACED = 9     # times compiled code replaced one of the storage's arrays (pair list, grown pool or work area)
+NCTR = 10
 
 #: ``ctr[C_COLLIDE]``: 0 the collider runs when a body left its bound; COLLIDE_FULL at the next step, every body
 #: bounded again and the pair list rebuilt (a scene edit); COLLIDE_APPENDED at the next step, and bodies were only

@@ -380,6 +380,10 @@ class _Decoder:
                 if a.dtype != ref.dtype or a.ndim != ref.ndim or not tail_ok:
                     raise self.fail(f"{name}.{f} is {a.dtype} {a.shape}; this granum needs {ref.dtype} "
                                     f"(n,{''.join(f' {k},' for k in ref.shape[1:])[:-1]})")
+                if f == "ctr" and len(a) != len(ref):   # the kernels read every counter without bounds checks
+                    if len(a) > len(ref):
+                        raise self.fail(f"{name}.ctr holds {len(a)} counters; this granum has {len(ref)}")
+                    a = np.concatenate([a, np.zeros(len(ref) - len(a), a.dtype)])   # earlier versions had fewer
                 out[f] = a
             return type(fresh)(**out)
         v = self.value(node)

@@ -39,6 +39,7 @@ from granum.core.contacts import (
     C_ERR_A,
     C_ERR_B,
     C_PAIRS,
+    C_REPLACED,
     C_STATUS,
     COLLIDE_APPENDED,
     FLAG_ALIVE,
@@ -662,6 +663,7 @@ def collider_stage(S, C, P):
     C.pair_gap = np.zeros(0, np.float32)
     C.pair_ref = np.zeros((0, 3), np.int16)
     C.pair_hit = np.zeros(0, np.uint8)
+    C.ctr[C_REPLACED] += 1
     if nb < PARALLEL_THRESHOLD:
         compute_bounds(R, nb, bound_code, bound_tab, verlet)
     else:

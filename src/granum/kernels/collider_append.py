@@ -25,7 +25,7 @@ import numpy as np
 
 from granum._jit import jit
 from granum.core.arrays import S_VERLET
-from granum.core.contacts import C_COLLIDE, C_COLLIDER_RUNS, C_PAIRS, I_PAIR
+from granum.core.contacts import C_COLLIDE, C_COLLIDER_RUNS, C_PAIRS, C_REPLACED, I_PAIR
 from granum.core.shapes import ShapeKind
 from granum.kernels.bounds import any_body_moved, bound_body, bounds_overlap
 from granum.kernels.pairing import may_collide
@@ -139,6 +139,7 @@ def merge_pairs(C, added):
     C.pair_ref = ref
     C.pair_hit = hit
     C.ctr[C_PAIRS] = n + k
+    C.ctr[C_REPLACED] += 1
 
 
 @jit

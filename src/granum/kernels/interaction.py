@@ -42,6 +42,7 @@ from granum.core.contacts import (
     C_ERR_A,
     C_ERR_B,
     C_PAIRS,
+    C_REPLACED,
     C_STATUS,
     F_E_DISSIP,
     F_E_ELAST,
@@ -343,6 +344,7 @@ def grow_contacts(C, need):
     C.con_i = con_i
     C.con_f = con_f
     C.csr_con = np.zeros(2 * cap, np.int32)
+    C.ctr[C_REPLACED] += 1
 
 
 @jit
@@ -352,11 +354,13 @@ def widen_contacts(C, width):
         con_f = np.zeros((C.con_f.shape[0], width), np.float64)
         copy_rows(con_f, C.con_f, C.con_f.shape[0])
         C.con_f = con_f
+        C.ctr[C_REPLACED] += 1
     if C.ended.shape[0] < width:
         ended = np.zeros(width, np.float64)
         for k in range(C.ended.shape[0]):
             ended[k] = C.ended[k]
         C.ended = ended
+        C.ctr[C_REPLACED] += 1
 
 
 @jit

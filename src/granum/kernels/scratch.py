@@ -28,6 +28,7 @@ from numba.core import cgutils
 from numba.extending import intrinsic
 
 from granum._jit import jit
+from granum.core.contacts import C_REPLACED
 
 
 @jit(inline="always")  # a few instructions: no call
@@ -35,6 +36,7 @@ def area(C, words):
     """``C.scratch`` with room for at least ``words`` float64 words (replaced by a larger array if needed)."""
     if C.scratch.shape[0] < words:
         C.scratch = np.empty(max(words, C.scratch.shape[0] + C.scratch.shape[0] // 2))
+        C.ctr[C_REPLACED] += 1
     return C.scratch
 
 
