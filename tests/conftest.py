@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 import pathlib
 import sys
 
@@ -92,3 +93,28 @@ def viscel_engines(y):
             y.InteractionLoop([y.Ig2_Sphere_Sphere_ScGeom()], [y.Ip2_ViscElMat_ViscElMat_ViscElPhys()],
                               [y.Law2_ScGeom_ViscElPhys_Basic()]),
             y.NewtonIntegrator()]
+
+
+def factory_in_box(y, rate_per_step=1.5, r_min=0.004, r_max=0.006, force_full_runs=False, half_width=0.08,
+                   height=0.15):
+    """A seeded BoxFactory throwing spheres down into a 0.2 m facet box from ``height`` (the first land after about
+    700 steps from the default height); returns the factory."""
+    O = y.O
+    mat = O.materials.append(y.FrictMat(young=1e6, poisson=0.3, frictionAngle=math.radians(30), density=2600))
+    O.bodies.append(y.geom.facetBox((0, 0, 0.1), (0.1, 0.1, 0.1), material=mat))
+    O.dt = 1e-4
+    mean_mass = 2600 * 4 / 3 * math.pi * 0.25 * (r_min + r_max) * (r_min ** 2 + r_max ** 2)
+    factory = y.BoxFactory(center=(0, 0, height), extents=(half_width, half_width, 0.01), rMin=r_min, rMax=r_max,
+                           vMin=1.5, vMax=1.5, normal=(0, 0, -1), massFlowRate=rate_per_step * mean_mass / O.dt,
+                           maxParticles=-1, materialId=mat, seed=11, label="factory")
+    O.engines = [
+        y.ForceResetter(),
+        y.InsertionSortCollider([y.Bo1_Sphere_Aabb(), y.Bo1_Facet_Aabb()]),
+        y.InteractionLoop([y.Ig2_Sphere_Sphere_ScGeom(), y.Ig2_Facet_Sphere_ScGeom()],
+                          [y.Ip2_FrictMat_FrictMat_FrictPhys()], [y.Law2_ScGeom_FrictPhys_CundallStrack()]),
+        y.NewtonIntegrator(damping=0.2, gravity=(0, 0, -9.81)),
+        factory,
+    ]
+    if force_full_runs:   # setting a body's mask makes the collider run in full at the next step
+        O.engines = O.engines + [y.PyRunner(iterPeriod=1, command="O.bodies[0].mask = O.bodies[0].mask")]
+    return factory

@@ -7,35 +7,11 @@ contacts linked both ways; and a full run wherever the shortcut would not be exa
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
+from conftest import factory_in_box
 
 from granum.core.arrays import S_VERLET
 from granum.core.contacts import C_CONTACTS, C_PAIRS, FLAG_ALIVE, I_FLAGS, I_ID1, I_ID2, I_PAIR
-
-
-def _scene(y, rate_per_step=1.5, r_min=0.004, r_max=0.006, force_full_runs=False, half_width=0.08):
-    """A seeded BoxFactory throwing spheres down into a facet box: the first land after about 700 steps."""
-    O = y.O
-    mat = O.materials.append(y.FrictMat(young=1e6, poisson=0.3, frictionAngle=math.radians(30), density=2600))
-    O.bodies.append(y.geom.facetBox((0, 0, 0.1), (0.1, 0.1, 0.1), material=mat))
-    O.dt = 1e-4
-    mean_mass = 2600 * 4 / 3 * math.pi * 0.25 * (r_min + r_max) * (r_min ** 2 + r_max ** 2)
-    factory = y.BoxFactory(center=(0, 0, 0.15), extents=(half_width, half_width, 0.01), rMin=r_min, rMax=r_max,
-                           vMin=1.5, vMax=1.5, normal=(0, 0, -1), massFlowRate=rate_per_step * mean_mass / O.dt,
-                           maxParticles=-1, materialId=mat, seed=11, label="factory")
-    O.engines = [
-        y.ForceResetter(),
-        y.InsertionSortCollider([y.Bo1_Sphere_Aabb(), y.Bo1_Facet_Aabb()]),
-        y.InteractionLoop([y.Ig2_Sphere_Sphere_ScGeom(), y.Ig2_Facet_Sphere_ScGeom()],
-                          [y.Ip2_FrictMat_FrictMat_FrictPhys()], [y.Law2_ScGeom_FrictPhys_CundallStrack()]),
-        y.NewtonIntegrator(damping=0.2, gravity=(0, 0, -9.81)),
-        factory,
-    ]
-    if force_full_runs:   # setting a body's mask makes the collider run in full at the next step
-        O.engines = O.engines + [y.PyRunner(iterPeriod=1, command="O.bodies[0].mask = O.bodies[0].mask")]
-    return factory
 
 
 def _state(O):
@@ -63,12 +39,12 @@ def test_same_bits_as_full_runs(yade):
     with a full collider run at every step; and the run did take the shortcut (the bounds of the spheres made
     before stay put while new ones come)."""
     O = yade.O
-    _scene(yade)
+    factory_in_box(yade)
     O.run(1000, True)
     appended, contacts = _state(O)
     changes = _bound_changes(yade, 30)
     O.reset()
-    _scene(yade, force_full_runs=True)
+    factory_in_box(yade, force_full_runs=True)
     O.run(1000, True)
     full, contacts_full = _state(O)
     assert contacts > 50 and contacts == contacts_full   # spheres have landed and touch
@@ -112,7 +88,7 @@ def test_pair_list_stays_exact_and_linked(yade):
     contacts (:func:`_check_pairs`). The factory's region reaches the walls: new spheres pair with the facets,
     whose ids come first, so the pairs of the contacts move down the list."""
     O = yade.O
-    _scene(yade, half_width=0.093)
+    factory_in_box(yade, half_width=0.093)
     O.run(1000, True)
     contacts = []
     for _ in range(30):
@@ -126,7 +102,7 @@ def test_a_smaller_sphere_takes_a_full_run(yade):
     all before lowers it, which only a full run may do. After every step it is what a full run would set for the
     spheres the collider has seen (the factory appends after it)."""
     O = yade.O
-    _scene(yade, rate_per_step=0.5, r_min=0.004, r_max=0.012)
+    factory_in_box(yade, rate_per_step=0.5, r_min=0.004, r_max=0.012)
     smallest = []
     for _ in range(150):
         O.run(1, True)
@@ -141,6 +117,6 @@ def test_many_new_bodies_take_a_full_run(yade):
     """More bodies than the shortcut takes (APPEND_MAX) appended in one step: the collider runs in full, and the
     falling sphere's bound is taken anew at every step."""
     O = yade.O
-    _scene(yade, rate_per_step=60.0, r_min=0.003, r_max=0.004)
+    factory_in_box(yade, rate_per_step=60.0, r_min=0.003, r_max=0.004)
     O.run(5, True)
     assert _bound_changes(yade, 10) == 10

@@ -9,7 +9,7 @@ import gc
 import weakref
 
 import numpy as np
-from conftest import frict_engines
+from conftest import factory_in_box, frict_engines
 
 from granum.core.contacts import C_COLLIDER_RUNS, C_REPLACED, CONTACTS
 
@@ -84,25 +84,12 @@ def test_python_sees_every_array_compiled_code_replaced(yade):
     collider runs again and again, the contact pool and the work area grow, and a factory appends bodies (the
     collider's run for appended bodies), the scene's arrays are the record's after every step."""
     O = yade.O
-    y = yade
-    mat = O.materials.append(y.FrictMat(young=1e6, poisson=0.3, frictionAngle=0.5, density=2600))
-    O.bodies.append(y.geom.facetBox((0, 0, 0.1), (0.1, 0.1, 0.1), material=mat))
-    O.dt = 1e-4
-    O.engines = [
-        y.ForceResetter(),
-        y.InsertionSortCollider([y.Bo1_Sphere_Aabb(), y.Bo1_Facet_Aabb()]),
-        y.InteractionLoop([y.Ig2_Sphere_Sphere_ScGeom(), y.Ig2_Facet_Sphere_ScGeom()],
-                          [y.Ip2_FrictMat_FrictMat_FrictPhys()], [y.Law2_ScGeom_FrictPhys_CundallStrack()]),
-        y.NewtonIntegrator(damping=0.2, gravity=(0, 0, -9.81)),
-        y.BoxFactory(center=(0, 0, 0.03), extents=(0.08, 0.08, 0.01), rMin=0.004, rMax=0.006, vMin=1.5, vMax=1.5,
-                     normal=(0, 0, -1), massFlowRate=1.5 * 2600 * 4 / 3 * 3.1416 * 0.005 ** 3 / O.dt,
-                     maxParticles=-1, materialId=mat, seed=11),
-    ]
+    factory_in_box(yade, height=0.03)
     scene = O._scene
     kept = []
     for step in range(900):
         if step == 600:
-            O.engines[-1].dead = True   # no more bodies: Python no longer replaces the per-body index
+            O.engines[-1].dead = True   # the factory: no more bodies: Python no longer replaces the per-body index
         before = scene.contacts
         O.step()
         assert _same_arrays(scene.contacts, scene._contacts_record[1]), O.iter
