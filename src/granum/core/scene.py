@@ -48,7 +48,7 @@ from granum.core.contacts import (
     resize_for_bodies,
     with_images,
 )
-from granum.core.shapes import CLUMP_MEMBER_COLUMNS, ShapeKind, new_shape_tables, shape_type
+from granum.core.shapes import ASPHERICAL_KINDS, CLUMP_MEMBER_COLUMNS, ShapeKind, new_shape_tables, shape_type
 from granum.core.table import Table
 
 
@@ -254,7 +254,7 @@ class Scene(BodyStore):
     # ---- compiled view -------------------------------------------------------------------
     def material_arrays(self) -> tuple[np.ndarray, np.ndarray]:
         """``(mat_kind (M,) int32, mat (M, ncol) float64)`` compiled from :attr:`materials`."""
-        key = tuple((id(m), m.version) for m in self.materials)
+        key = tuple([(id(m), m.version) for m in self.materials])
         if self._mat_cache is not None and self._mat_cache[0] == key:
             return self._mat_cache[1]
         cols = MATERIAL_COLUMNS
@@ -283,13 +283,13 @@ class Scene(BodyStore):
         # lazy columns the kernels follow without looking (clump members, aspherical bodies)
         if self.shapes[ShapeKind.CLUMP].count:
             b.allocate("clump_rel_pos", "clump_rel_ori")
-        if any(shape_type(kind).aspherical and table.count for kind, table in self.shapes.items()):
+        if any([self.shapes[kind].count for kind in ASPHERICAL_KINDS]):
             b.allocate("ang_mom")
         tables = (b, self.clump_members, *self.shapes.values())
         others = (mat_kind, mat, self.cell_hsize, self.cell_velgrad, self.cell_prev_velgrad, self.cell_trsf,
                   self.cell_bound_hsize, self.cell_prev_hsize, self.scal, self.iscal, self.energy, self.energy_set)
         # the tables themselves (compared by identity), so that a table dropped meanwhile cannot pass for a new one
-        key = (tuple(self.shapes), tables, tuple(t.generation for t in tables), tuple(map(id, others)))
+        key = (tuple(self.shapes), tables, tuple([t.generation for t in tables]), tuple(map(id, others)))
         if self._record is None or self._record[0] != key:
             values = {c.name: b.stored(c.name) for c in b.columns}
             for kind, table in self.shapes.items():

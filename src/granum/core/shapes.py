@@ -128,6 +128,8 @@ SHAPES: tuple[ShapeType, ...] = (
 #: declaration of :data:`SHAPES`, named by its YADE class name in upper case (``ShapeKind.SPHERE``).
 ShapeKind = IntEnum("ShapeKind", [("NONE", 0)] + [(s.name.upper(), k) for k, s in enumerate(SHAPES, 1)],
                     module=__name__)
+#: The kinds whose bodies rotate as aspherical ones (their angular momentum is integrated).
+ASPHERICAL_KINDS: tuple[ShapeKind, ...] = tuple(ShapeKind(k) for k, s in enumerate(SHAPES, 1) if s.aspherical)
 
 
 def shape_type(kind: int) -> ShapeType:
