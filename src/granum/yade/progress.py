@@ -18,13 +18,14 @@ BAR_WIDTH = 30
 
 
 def progress_wanted(stream) -> bool:
-    """Whether a progress bar should be drawn on ``stream``."""
+    """Whether a progress bar should be drawn on ``stream`` (asked at every ``O.run(n, True)``: the terminal first,
+    the cheapest question, and the only one asked of a script's output that goes to a file or a pipe)."""
+    isatty = getattr(stream, "isatty", None)
+    if not (isatty and isatty()):
+        return False
     from granum.yade.batch import runningInBatch
 
-    if os.environ.get("GRANUM_PROGRESS", "") == "0" or runningInBatch():
-        return False
-    isatty = getattr(stream, "isatty", None)
-    return bool(isatty and isatty())
+    return os.environ.get("GRANUM_PROGRESS", "") != "0" and not runningInBatch()
 
 
 class Progress:
