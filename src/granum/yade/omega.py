@@ -208,7 +208,7 @@ class Omega:
     def __setattr__(self, name, value):
         # no silent typos (O.dtt = ...): only existing attributes can be assigned. The private ones are granum's own,
         # set several times a run: not checked (hasattr would run a property's getter)
-        if name[0] != "_" and getattr(self, "_frozen", False) and not hasattr(self, name):
+        if name[:1] != "_" and getattr(self, "_frozen", False) and not hasattr(self, name):
             raise AttributeError(f"Omega has no attribute {name!r}")
         object.__setattr__(self, name, value)
 
