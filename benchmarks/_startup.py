@@ -16,9 +16,9 @@ speed issue's, a first run within 8 s, a cached start and one step within 1 s.
 from __future__ import annotations
 
 import os
-import subprocess
 import tempfile
-import time
+
+from _process import timed_run
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 EXAMPLE = os.path.join(os.path.dirname(HERE), "examples", "bouncing_sphere.py")
@@ -28,14 +28,8 @@ CACHED_START_TARGET = 1.0   # seconds
 
 def _wall(cmd: list[str], env: dict, workdir: str, timeout: float) -> tuple[float | None, str]:
     """Run ``cmd``; its wall time [s] (None when it failed) and its output's tail."""
-    t0 = time.perf_counter()
-    try:
-        p = subprocess.run(cmd, cwd=workdir, env=env, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
-                           stderr=subprocess.STDOUT, timeout=timeout, text=True, errors="replace")
-    except subprocess.TimeoutExpired:
-        return None, "TIMEOUT"
-    wall = time.perf_counter() - t0
-    return (wall if p.returncode == 0 else None), p.stdout[-4000:]
+    status, wall, out = timed_run(cmd, env, workdir, timeout)
+    return (wall if status == "ok" else None), f"{status}: {out[-4000:]}"
 
 
 def startup_check(args, granum, yade, workdir, failures, log) -> None:
