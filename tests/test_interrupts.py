@@ -12,11 +12,15 @@ from __future__ import annotations
 
 import os
 import random
+import signal
 import subprocess
 import sys
 import threading
 
 import numpy as np
+import pytest
+
+from granum.engines import interrupts
 
 INTERRUPTS = int(os.environ.get("GRANUM_STRESS_INTERRUPTS", "4"))
 SECONDS = float(os.environ.get("GRANUM_STRESS_SECONDS", "1"))
@@ -133,3 +137,53 @@ def test_appends_and_erases_during_a_background_run_keep_the_scene_consistent(ya
         _consistent(y)
         y.O.run(20, True)
         _consistent(y)
+
+
+def _sigint_now():
+    """Deliver SIGINT to this process and let Python run its handler (at the next bytecode)."""
+    signal.raise_signal(signal.SIGINT)
+
+
+def test_the_guards_defer_ctrl_c_to_a_step_boundary_and_put_the_handler_back():
+    """The handler protocol of granum.engines.interrupts, in the main thread: a shielded exchange raises
+    KeyboardInterrupt only once it is over, a deferred run only where it asks (raise_pending), a second Ctrl-C
+    inside an engine's Python code at once; an exception leaves as itself; the handler before comes back."""
+    assert threading.current_thread() is threading.main_thread()
+    before = signal.getsignal(signal.SIGINT)
+    mine = lambda s, f: None   # noqa: E731  (the handler a user's program had)
+    signal.signal(signal.SIGINT, mine)
+    try:
+        steps = []
+        with pytest.raises(KeyboardInterrupt):
+            with interrupts.shielded():
+                _sigint_now()
+                steps.append("exchange finished")
+        assert steps == ["exchange finished"] and signal.getsignal(signal.SIGINT) is mine
+
+        with pytest.raises(ZeroDivisionError):   # not replaced by the Ctrl-C pending when it left
+            with interrupts.shielded():
+                _sigint_now()
+                1 / 0
+        assert signal.getsignal(signal.SIGINT) is mine
+
+        with interrupts.deferred():
+            _sigint_now()
+            steps.append("step finished")
+            with pytest.raises(KeyboardInterrupt):
+                interrupts.raise_pending()
+            interrupts.raise_pending()   # asked once: nothing pending any more
+            with interrupts.shielded():   # inside a run the run's guard already defers
+                _sigint_now()
+            with interrupts.user_code():
+                with pytest.raises(KeyboardInterrupt):   # the second Ctrl-C, in a PyRunner's command
+                    _sigint_now()
+                    steps.append("never")
+            _sigint_now()   # outside the command again: deferred
+            steps.append("next step finished")
+        assert steps[1:] == ["step finished", "next step finished"]
+        assert signal.getsignal(signal.SIGINT) is mine
+
+        with interrupts.user_code():   # outside a run: Python's handler decides (here: mine, which ignores it)
+            _sigint_now()
+    finally:
+        signal.signal(signal.SIGINT, before)

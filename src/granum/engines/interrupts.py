@@ -16,7 +16,6 @@ from __future__ import annotations
 # CPython's module under ``signal``: the same calls without the conversions to and from enums (3.3 -> 0.3 us a call;
 # a run in the main thread, each O.step(), installs a handler and restores the one before)
 import _signal as _signals
-import contextlib
 import signal
 import threading
 
@@ -41,28 +40,51 @@ def _installable() -> bool:
     return threading.current_thread() is threading.main_thread() and _active is None
 
 
-@contextlib.contextmanager
-def _handler(guard: _Guard):
-    global _active
-    previous = _signals.getsignal(signal.SIGINT)
-    _signals.signal(signal.SIGINT, guard)
-    _active = guard
-    try:
-        yield guard
-    finally:
+class _Handler:
+    """Install ``guard`` as the SIGINT handler for the ``with`` block; the handler before comes back after it.
+
+    The context managers of this module are classes, not generators: ``contextlib``'s generator protocol cost
+    about a microsecond per block, and each ``O.step()`` enters two of them."""
+
+    __slots__ = ("guard", "previous")
+
+    def __init__(self, guard: _Guard):
+        self.guard = guard
+
+    def __enter__(self) -> _Guard:
+        global _active
+        self.previous = _signals.getsignal(signal.SIGINT)
+        _signals.signal(signal.SIGINT, self.guard)
+        _active = self.guard
+        return self.guard
+
+    def __exit__(self, *exc) -> bool:
+        global _active
         _active = None
         # a handler installed from C reads as None and cannot be put back from Python: Python's default then
+        previous = self.previous
         _signals.signal(signal.SIGINT, previous if previous is not None else signal.default_int_handler)
+        return False
 
 
-@contextlib.contextmanager
+class _Nothing:
+    """A ``with`` block that changes nothing (where no handler can be installed)."""
+
+    __slots__ = ()
+
+    def __enter__(self) -> None:
+        return None
+
+    def __exit__(self, *exc) -> bool:
+        return False
+
+
+_NOTHING = _Nothing()
+
+
 def deferred():
     """Defer Ctrl-C for a run in the main thread (see the module docstring); elsewhere, nothing."""
-    if not _installable():
-        yield
-        return
-    with _handler(_Guard()):
-        yield
+    return _Handler(_Guard()) if _installable() else _NOTHING
 
 
 def raise_pending() -> None:
@@ -72,27 +94,40 @@ def raise_pending() -> None:
         raise KeyboardInterrupt
 
 
-@contextlib.contextmanager
+class _UserCode:
+    """The Python code of an engine inside a deferred run: a second Ctrl-C interrupts it at once."""
+
+    __slots__ = ("guard",)
+
+    def __init__(self, guard: _Guard):
+        self.guard = guard
+
+    def __enter__(self) -> None:
+        self.guard.in_user_code = True
+
+    def __exit__(self, *exc) -> bool:
+        self.guard.in_user_code = False
+        return False
+
+
 def user_code():
     """The Python code of an engine: during a deferred run a second Ctrl-C interrupts it at once."""
     guard = _active
-    if guard is None:
-        yield
-        return
-    guard.in_user_code = True
-    try:
-        yield
-    finally:
-        guard.in_user_code = False
+    return _NOTHING if guard is None else _UserCode(guard)
 
 
-@contextlib.contextmanager
+class _Shield(_Handler):
+    """:func:`shielded`'s block: Ctrl-C deferred, and raised once the block has ended (unless it raised)."""
+
+    __slots__ = ()
+
+    def __exit__(self, kind, value, traceback) -> bool:
+        super().__exit__(kind, value, traceback)
+        if kind is None and self.guard.pending:
+            raise KeyboardInterrupt
+        return False
+
+
 def shielded():
     """Defer Ctrl-C over one exchange of arrays with compiled code outside a run; raise it afterwards."""
-    if not _installable():
-        yield
-        return
-    with _handler(_Guard()) as guard:
-        yield
-    if guard.pending:
-        raise KeyboardInterrupt
+    return _Shield(_Guard()) if _installable() else _NOTHING
