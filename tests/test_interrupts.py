@@ -163,7 +163,7 @@ def test_the_guards_defer_ctrl_c_to_a_step_boundary_and_put_the_handler_back():
         with pytest.raises(ZeroDivisionError):   # not replaced by the Ctrl-C pending when it left
             with interrupts.shielded():
                 _sigint_now()
-                1 / 0
+                raise ZeroDivisionError("the exchange failed")
         assert signal.getsignal(signal.SIGINT) is mine
 
         with interrupts.deferred():
