@@ -187,14 +187,31 @@ class _Base:
     __str__ = __repr__
 
 
+def eigen_sum(values: list) -> float:
+    """Sum of ``values`` in the order of Eigen's unrolled reductions, which YADE's minieigen types use: the first
+    ``len // 2`` and the rest, each half summed the same way (x + (y + z) for three). A norm summed so has YADE's
+    bits (``tests/reference/yade/norms.py``); NumPy's dot product differs in the last bit about every fifth time."""
+    n = len(values)
+    if n == 1:
+        return values[0]
+    if n == 2:
+        return values[0] + values[1]
+    half = n // 2
+    return eigen_sum(values[:half]) + eigen_sum(values[half:])
+
+
 class _Normed(_Base):
     """Euclidean (for Matrix3 Frobenius) norm and normalization."""
 
     __slots__ = ()
 
+    def _coefficients(self) -> list:
+        """The coefficients in the order Eigen stores them (YADE's reductions follow it): YADE's index order
+        (a quaternion's x, y, z, w), but for matrices (:meth:`Matrix3._coefficients`)."""
+        return self._public().ravel().tolist()
+
     def squaredNorm(self):
-        a = self._a.ravel()
-        return (a @ a).item()
+        return eigen_sum([x * x for x in self._coefficients()])
 
     def norm(self):
         return math.sqrt(self.squaredNorm())
@@ -359,9 +376,9 @@ class _Vector3Base(_Vector):
     UnitX, UnitY, UnitZ = _unit(0), _unit(1), _unit(2)
 
     def squaredNorm(self):
-        # ((x² + y²) + z²), the order of Eigen's unrolled sum, without the cost of a NumPy reduction
+        # eigen_sum of the three squares, written out: walks over all interactions call it once per contact
         x, y, z = self._a.tolist()
-        return x * x + y * y + z * z
+        return x * x + (y * y + z * z)
 
     def cross(self, other):
         (a0, a1, a2), (b0, b1, b2) = self._a.tolist(), as_array(type(self), other).tolist()
@@ -430,6 +447,9 @@ class Matrix3(_Real):
     __slots__ = ()
     _shape, _what = (3, 3), "3x3 matrix (9 numbers or 3 rows of 3)"
     Identity = _Const(lambda c: np.eye(3))
+
+    def _coefficients(self) -> list:
+        return self._a.T.ravel().tolist()   # Eigen stores a matrix column by column
 
     def __init__(self, *args, cols=False):
         if len(args) == 4 and isinstance(args[3], bool):  # Matrix3(r0, r1, r2, True)
@@ -552,7 +572,7 @@ def _axis_angle_wxyz(axis: np.ndarray, angle) -> np.ndarray:
     # unit quaternion printed with angle 2.214297435588180818.
     s = math.sin(0.5 * angle)
     q = np.array([math.cos(0.5 * angle), s * axis[0], s * axis[1], s * axis[2]])
-    return q / math.sqrt(q @ q)
+    return q / Quaternion._new(q).norm()
 
 
 def _hamilton(p, q) -> np.ndarray:
