@@ -660,7 +660,7 @@ def test_norms_have_yades_bits():
     ref = reference("norms")
     sys.path.insert(0, str(REFERENCE))
     try:
-        from _common import tojson   # the reference's conversion: a quaternion as [w, x, y, z]
+        from _common import tojson  # the reference's conversion: a quaternion as [w, x, y, z]
     finally:
         sys.path.remove(str(REFERENCE))
     ours = tojson(granum_reference_run("norms.py"))
