@@ -652,7 +652,8 @@ def test_quaternion_axis_angle_keywords_and_tuple():
 def test_norms_have_yades_bits():
     """squaredNorm() and norm() of Vector2/3/6, Matrix3 and Quaternion add the squares in the order of YADE's
     (Eigen's unrolled reductions), so that they are YADE's to the last bit (tests/reference/yade/norms.py, seeded
-    values over ten orders of magnitude); NumPy's dot product differed in about a fifth of them."""
+    values over ten orders of magnitude); NumPy's dot product differed in about a fifth of them. So are the axis
+    and angle of Quaternion.toAxisAngle(), which divide by the norm of the vector part."""
     import sys
 
     from conftest import REFERENCE, granum_reference_run, reference
@@ -669,6 +670,6 @@ def test_norms_have_yades_bits():
         assert len(ours[kind]) == len(cases)
         for mine, yade in zip(ours[kind], cases, strict=True):
             assert mine["value"] == yade["value"], kind
-            for key in ("squaredNorm", "norm"):
-                if key in yade:   # YADE's Quaternion has norm() only
+            for key in ("squaredNorm", "norm", "axis", "angle"):
+                if key in yade:   # YADE's Quaternion has norm() only; toAxisAngle's cases: axis and angle
                     assert mine[key] == yade[key], (kind, key, yade["value"])

@@ -701,7 +701,7 @@ class Quaternion(_Normed):
     def toAxisAngle(self):
         """(unit axis as Vector3, angle in [0, pi]); a non-unit quaternion counts by its direction."""
         w, x, y, z = self._a.tolist()
-        n = math.sqrt(x * x + y * y + z * z)  # plain sum of squares: the digits YADE prints
+        n = math.sqrt(eigen_sum([x * x, y * y, z * z]))  # |(x, y, z)| added as YADE adds it: its bits
         if n < 1e-150:  # the squares may have underflowed: redo without underflow
             n = math.hypot(x, y, z)
         if n == 0:

@@ -1,6 +1,6 @@
 # YADE 2023.02a reference for the norms of minieigen's types: squaredNorm() and norm() of seeded random Vector2,
 # Vector3, Vector6, Matrix3 values and norm() of Quaternion values (components spread over ten orders of magnitude), with the
-# components as YADE holds them. Run: yade -n -x norms.py  (writes norms.json)
+# components as YADE holds them; toAxisAngle() of 100 non-unit quaternions. Run: yade -n -x norms.py  (writes norms.json)
 import os
 import random
 import sys
@@ -29,4 +29,13 @@ out = {
     'Matrix3': [case(Matrix3(*numbers(9))) for _ in range(100)],
     'Quaternion': [case(Quaternion(*numbers(4))) for _ in range(100)],
 }
+
+
+def axis_angle(value):
+    axis, angle = value.toAxisAngle()
+    return {'value': value, 'axis': axis, 'angle': angle}
+
+
+# toAxisAngle() of quaternions that are not unit: its axis is the vector part over its norm
+out['toAxisAngle'] = [axis_angle(Quaternion(*[rng.gauss(0.0, 1.0) for _ in range(4)])) for _ in range(100)]
 dump('norms', out)
