@@ -132,15 +132,15 @@ def test_bulk_arrays_equal_the_per_item_values(yade):
 
 
 def test_walked_norms_equal_the_bulk_arrays(yade):
-    """The walk of the benchmark (python_walk.py): each ``i.phys.normalForce.norm()`` is sqrt(x² + y² + z²) of its
-    own contact's force, read from the bulk array of the same forces (same bits), and so is the sum."""
+    """The walk of the benchmark (python_walk.py): each ``i.phys.normalForce.norm()`` is sqrt(x² + (y² + z²)) (YADE's
+    order) of its own contact's force, read from the bulk array of the same forces (same bits), and so is the sum."""
     y = yade
     _pile(y)
     y.O.run(3, True)
     walked = [(i.id1, i.id2, i.phys.normalForce.norm(), tuple(i.phys.normalForce)) for i in y.O.interactions]
     bulk = y.O.interactions.arrays("normalForce")
     fn = bulk["normalForce"]
-    norms = np.sqrt(fn[:, 0] * fn[:, 0] + fn[:, 1] * fn[:, 1] + fn[:, 2] * fn[:, 2])
+    norms = np.sqrt(fn[:, 0] * fn[:, 0] + (fn[:, 1] * fn[:, 1] + fn[:, 2] * fn[:, 2]))
     assert [w[:2] for w in walked] == list(zip(bulk["id1"].tolist(), bulk["id2"].tolist(), strict=True))
     assert [w[2] for w in walked] == norms.tolist() and [w[3] for w in walked] == [tuple(f) for f in fn.tolist()]
     assert sum(w[2] for w in walked) == pytest.approx(norms.sum(), rel=1e-13) and norms.min() > 0

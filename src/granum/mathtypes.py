@@ -151,6 +151,11 @@ class _Base:
         """Components in YADE's index order."""
         return self._a
 
+    def _coefficients(self) -> list:
+        """The coefficients in the order Eigen stores them (YADE's reductions follow it): YADE's index order
+        (a quaternion's x, y, z, w), but for matrices (:meth:`Matrix3._coefficients`)."""
+        return self._public().ravel().tolist()
+
     def _pos(self, i) -> int:
         i = _index(i, self._shape[0])
         return i if self._order is None else self._order[i]
@@ -187,28 +192,34 @@ class _Base:
     __str__ = __repr__
 
 
-def eigen_sum(values: list) -> float:
-    """Sum of ``values`` in the order of Eigen's unrolled reductions, which YADE's minieigen types use: the first
-    ``len // 2`` and the rest, each half summed the same way (x + (y + z) for three). A norm summed so has YADE's
-    bits (``tests/reference/yade/norms.py``); NumPy's dot product differs in the last bit about every fifth time."""
+def eigen_reduce(values: list, op=operator.add) -> float:
+    """``values`` combined by ``op`` in the order of Eigen's unrolled reductions, which YADE's minieigen types use:
+    the first ``len // 2`` and the rest, each half combined the same way (x + (y + z) for three). Sums, products
+    and dot products so combined have YADE's bits (``tests/reference/yade/norms.py``, ``reductions.py``); NumPy's
+    reductions differ from them in the last bit about every fifth time."""
     n = len(values)
     if n == 1:
         return values[0]
     if n == 2:
-        return values[0] + values[1]
+        return op(values[0], values[1])
     half = n // 2
-    return eigen_sum(values[:half]) + eigen_sum(values[half:])
+    return op(eigen_reduce(values[:half], op), eigen_reduce(values[half:], op))
+
+
+def eigen_sum(values: list) -> float:
+    """:func:`eigen_reduce` by addition."""
+    return eigen_reduce(values)
+
+
+def _dot3(r, c) -> float:
+    """r . c for two sequences of three numbers, in Eigen's order (a matrix product's entry)."""
+    return r[0] * c[0] + (r[1] * c[1] + r[2] * c[2])
 
 
 class _Normed(_Base):
     """Euclidean (for Matrix3 Frobenius) norm and normalization."""
 
     __slots__ = ()
-
-    def _coefficients(self) -> list:
-        """The coefficients in the order Eigen stores them (YADE's reductions follow it): YADE's index order
-        (a quaternion's x, y, z, w), but for matrices (:meth:`Matrix3._coefficients`)."""
-        return self._public().ravel().tolist()
 
     def squaredNorm(self):
         return eigen_sum([x * x for x in self._coefficients()])
@@ -272,16 +283,16 @@ class _Dense(_Base):
         return self
 
     def sum(self):
-        return self._a.sum().item()
+        return eigen_reduce(self._coefficients())
 
     def prod(self):
-        return self._a.prod().item()
+        return eigen_reduce(self._coefficients(), operator.mul)
 
     def mean(self):
+        s, n = self.sum(), self._a.size
         if self._dtype is np.int64:  # integer division truncating toward zero, as in C++
-            s, n = int(self._a.sum()), self._a.size
             return s // n if s >= 0 else -(-s // n)
-        return self._a.mean().item()
+        return s / n
 
     def maxCoeff(self):
         return self._a.max().item()
@@ -348,7 +359,8 @@ class _Vector(_Dense):
         return cls._new(np.eye(1, cls._shape[0], _index(i, cls._shape[0]), dtype=cls._dtype)[0])
 
     def dot(self, other):
-        return (self._a @ as_array(type(self), other)).item()
+        return eigen_reduce([x * y for x, y in zip(self._a.tolist(), as_array(type(self), other).tolist(),
+                                                   strict=True)])
 
 
 class Vector2(_Vector, _Real):
@@ -496,23 +508,32 @@ class Matrix3(_Real):
         if isinstance(other, numbers.Real):
             return Matrix3._new(self._a * other)
         if (v := Vector3._coerce(other)) is not None:
-            return Vector3._new(self._a @ v)
+            return Vector3._new(self._times(v))
         if (m := self._coerce(other)) is not None:
-            return Matrix3._new(self._a @ m)
+            return Matrix3._new(self._times(m))
         return NotImplemented
+
+    def _times(self, other: np.ndarray) -> np.ndarray:
+        """This matrix times a (3,) vector or a (3, 3) matrix, each entry in Eigen's order (YADE's bits)."""
+        rows = self._a.tolist()
+        if other.ndim == 1:
+            v = other.tolist()
+            return np.array([_dot3(r, v) for r in rows])
+        cols = other.T.tolist()
+        return np.array([[_dot3(r, c) for c in cols] for r in rows])
 
     def __rmul__(self, other):
         if isinstance(other, numbers.Real):
             return Matrix3._new(self._a * other)
         # YADE quirk, mirrored: ``v * M`` returns ``M * v``, not the row-vector product.
         v = Vector3._coerce(other)
-        return NotImplemented if v is None else Vector3._new(self._a @ v)
+        return NotImplemented if v is None else Vector3._new(self._times(v))
 
     def __imul__(self, other):
         if isinstance(other, numbers.Real):
             self._a *= other
         elif (m := self._coerce(other)) is not None:
-            self._a[...] = self._a @ m
+            self._a[...] = self._times(m)
         else:
             return NotImplemented
         return self
@@ -537,7 +558,7 @@ class Matrix3(_Real):
         return Vector3._new(self._a.diagonal().copy())
 
     def trace(self):
-        return self._a.trace().item()
+        return eigen_reduce(self._a.diagonal().tolist())
 
     def transpose(self):
         return Matrix3._new(self._a.T.copy())
@@ -549,13 +570,17 @@ class Matrix3(_Real):
                          [b * f - c * e, c * d - a * f, a * e - b * d]])
 
     def determinant(self):
-        # expansion along the first column, as YADE (Eigen): a singular matrix gives exactly 0
-        return (self._a[:, 0] @ self._cofactors()[:, 0]).item()
+        # expansion along the first row, the terms added left to right: YADE's bits (tests/reference/yade/
+        # reductions.py); a singular matrix gives exactly 0
+        (a, b, c), (d, e, f), (g, h, i) = self._a.tolist()
+        return a * (e * i - h * f) - b * (d * i - g * f) + c * (d * h - g * e)
 
     def inverse(self):
-        """Adjugate / determinant; a singular matrix gives inf/nan entries, no error (as YADE)."""
+        """Adjugate / determinant; a singular matrix gives inf/nan entries, no error (as YADE). The determinant is
+        here the first column's expansion in Eigen's order (YADE's inverse has these bits, its determinant()
+        others)."""
         cof = self._cofactors()
-        det = (self._a[:, 0] @ cof[:, 0]).item()
+        det = _dot3(self._a[:, 0].tolist(), cof[:, 0].tolist())
         with np.errstate(divide="ignore", invalid="ignore"):
             return Matrix3._new(cof.T * (np.float64(1.0) / det))
 

@@ -244,7 +244,7 @@ class _BoundVector3(_Bound, Vector3):
 
     def squaredNorm(self):
         x, y, z = self._xyz()
-        return x * x + y * y + z * z  # ((x² + y²) + z²), as Vector3.squaredNorm
+        return x * x + (y * y + z * z)  # x² + (y² + z²), YADE's order, as Vector3.squaredNorm
 
     def norm(self):  # the walks' hot path: _xyz inlined
         view = self._view
@@ -254,7 +254,7 @@ class _BoundVector3(_Bound, Vector3):
             at = view._at
         f, k = at.f, view._row * at.fw + self._col
         x, y, z = f[k], f[k + 1], f[k + 2]
-        return sqrt(x * x + y * y + z * z)
+        return sqrt(x * x + (y * y + z * z))
 
     __abs__ = norm
 
