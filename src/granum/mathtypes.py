@@ -206,11 +206,6 @@ def eigen_reduce(values: list, op=operator.add) -> float:
     return op(eigen_reduce(values[:half], op), eigen_reduce(values[half:], op))
 
 
-def eigen_sum(values: list) -> float:
-    """:func:`eigen_reduce` by addition."""
-    return eigen_reduce(values)
-
-
 def _dot3(r, c) -> float:
     """r . c for two sequences of three numbers, in Eigen's order (a matrix product's entry)."""
     return r[0] * c[0] + (r[1] * c[1] + r[2] * c[2])
@@ -222,7 +217,7 @@ class _Normed(_Base):
     __slots__ = ()
 
     def squaredNorm(self):
-        return eigen_sum([x * x for x in self._coefficients()])
+        return eigen_reduce([x * x for x in self._coefficients()])
 
     def norm(self):
         return math.sqrt(self.squaredNorm())
@@ -388,7 +383,7 @@ class _Vector3Base(_Vector):
     UnitX, UnitY, UnitZ = _unit(0), _unit(1), _unit(2)
 
     def squaredNorm(self):
-        # eigen_sum of the three squares, written out: walks over all interactions call it once per contact
+        # eigen_reduce of the three squares, written out: scripts call it per body or contact in their loops
         x, y, z = self._a.tolist()
         return x * x + (y * y + z * z)
 
@@ -726,7 +721,7 @@ class Quaternion(_Normed):
     def toAxisAngle(self):
         """(unit axis as Vector3, angle in [0, pi]); a non-unit quaternion counts by its direction."""
         w, x, y, z = self._a.tolist()
-        n = math.sqrt(eigen_sum([x * x, y * y, z * z]))  # |(x, y, z)| added as YADE adds it: its bits
+        n = math.sqrt(eigen_reduce([x * x, y * y, z * z]))  # |(x, y, z)| added as YADE adds it: its bits
         if n < 1e-150:  # the squares may have underflowed: redo without underflow
             n = math.hypot(x, y, z)
         if n == 0:
