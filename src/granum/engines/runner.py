@@ -36,7 +36,7 @@ from granum.engines import interrupts
 from granum.engines.base import PeriodicEngine
 from granum.engines.status import status_message
 from granum.kernels import steploop
-from granum.kernels.cell import step_begin, step_end
+from granum.kernels.cell import advance_clock, step_begin
 from granum.kernels.newton import first_massless_free_body
 from granum.kernels.static import Static
 from granum.physics import cpm, registry
@@ -347,19 +347,16 @@ class Runner:
     def slow_step(self, plan: Plan) -> None:
         """One step, segment by segment, with the Python engines that are due."""
         self.step_begin()
-        S = None
         try:
             for k in range(len(plan.items)):
                 self.sub_step = plan.first_engine[k]
-                S = self.run_item(plan, k, S)
+                self.run_item(plan, k)
         finally:
             self.sub_step = -1
-        self.end_step(plan, S)
+        self.end_step(plan)
 
-    def run_item(self, plan: Plan, k: int, S=None):
-        """Item ``k`` of a step: a compiled segment, or a Python engine if it is due. Returns the scene's record a
-        segment ran with, while nothing else could have changed the scene (None once Python code ran: an engine,
-        a hook); ``S``: that of the item before (a segment takes it anew all the same, after its parameters)."""
+    def run_item(self, plan: Plan, k: int) -> None:
+        """Item ``k`` of a step: a compiled segment, or a Python engine if it is due."""
         scene = self.scene
         kind, item = plan.items[k]
         if kind == "segment":
@@ -377,8 +374,7 @@ class Runner:
             for e in plan.compiled:   # the Python engines after this segment see what these hooks add
                 if e.hook_due():
                     e.run_hook(self.omega)
-                    S = None
-            return S
+            return
         if not item.dead and item.due(scene):
             t0 = time.perf_counter_ns()
             with interrupts.user_code():
@@ -386,8 +382,6 @@ class Runner:
             if self.omega.timingEnabled:
                 item.execTime += time.perf_counter_ns() - t0
                 item.execCount += 1
-            return None
-        return S
 
     def step_begin(self) -> None:
         """The beginning of a step run item by item: a periodic cell deforms (:func:`granum.kernels.cell.step_begin`,
@@ -395,10 +389,11 @@ class Runner:
         if self.scene.periodic:
             call(step_begin, self.scene.arrays())
 
-    def end_step(self, plan: Plan, S=None) -> None:
-        """The end of a step run item by item: the clock and the cell advance, then the hooks stages asked for.
-        ``S``: the scene's record, if nothing changed the scene since it was taken (None: take it)."""
-        call(step_end, self.scene.arrays() if S is None else S)
+    def end_step(self, plan: Plan) -> None:
+        """The end of a step run item by item: the clock and the cell advance (:func:`granum.kernels.cell.
+        advance_clock`, on its four arrays: the scene's record is not needed), then the hooks stages asked for."""
+        scene = self.scene
+        call(advance_clock, scene.scal, scene.iscal, scene.cell_velgrad, scene.cell_prev_velgrad)
         self.run_hooks(plan)
 
     def substep(self) -> None:

@@ -40,8 +40,16 @@ def step_begin(S):
 
 
 @jit
+def advance_clock(scal, iscal, velgrad, prev_velgrad):
+    """The end of a step: record the velocity gradient ``velgrad`` (3, 3) [1/s] as ``prev_velgrad``, advance the
+    time ``scal[S_TIME]`` [s] by ``scal[S_DT]`` and the step count ``iscal[SI_ITER]`` by one. Its own arrays, not
+    the scene's record: a step run item by item (a Python engine due) ends with it without building the record."""
+    copy_rows(prev_velgrad, velgrad, 3)
+    scal[S_TIME] += scal[S_DT]
+    iscal[SI_ITER] += 1
+
+
+@jit
 def step_end(S):
-    """Record the velocity gradient and advance the clock."""
-    copy_rows(S.cell_prev_velgrad, S.cell_velgrad, 3)
-    S.scal[S_TIME] += S.scal[S_DT]
-    S.iscal[SI_ITER] += 1
+    """The end of a step in the compiled step loop: :func:`advance_clock` on the scene's record."""
+    advance_clock(S.scal, S.iscal, S.cell_velgrad, S.cell_prev_velgrad)
