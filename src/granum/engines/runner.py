@@ -94,6 +94,8 @@ class Plan:
         self.key = plan_key(engines)
         #: the compiled engines with the collider's counters (YADE's numAction, numReinit)
         self.counted = [e for e in self.compiled if "numAction" in e._attrs]
+        #: whether an engine adds bodies during the steps (a class attribute: it cannot change with the plan)
+        self.adds_bodies = any(e.adds_bodies for e in self.compiled)
         #: the stages' time array of an untimed chunk (zeros, never written)
         self.untimed = np.zeros((len(self.compiled), 2), np.int64)
         self._loops: dict = {}
@@ -264,7 +266,7 @@ class Runner:
         parallel within one (and has compiled both loops)."""
         if numba.get_num_threads() == 1:
             return ALL_SERIAL
-        if any(e.adds_bodies for e in plan.compiled):
+        if plan.adds_bodies:
             return frozenset()
         ctr = self.scene.contacts.ctr
         bodies = self.scene.body_count
