@@ -167,7 +167,7 @@ def test_small_scenes_and_single_threads_run_the_serial_step_loop(yade):
     from conftest import frict_engines
 
     from granum._jit import PARALLEL_THRESHOLD
-    from granum.engines.runner import ALL_SERIAL, BODIES_SERIAL, SERIAL_LOOP_BODIES, Runner
+    from granum.engines.runner import ALL_SERIAL, BODIES_SERIAL, SERIAL_LOOP_BODIES, Plan, Runner
 
     y = yade
     if numba.config.NUMBA_NUM_THREADS < 2:
@@ -203,8 +203,7 @@ def test_small_scenes_and_single_threads_run_the_serial_step_loop(yade):
     try:
         runner, plan = y.O._runner, y.O._runner.plan()
         assert runner.serial(plan) == ALL_SERIAL
-        assert runner.serial(types.SimpleNamespace(compiled=[y.CircularFactory()])) == frozenset(), \
-            "a factory adds bodies"
+        assert runner.serial(Plan([y.CircularFactory()])) == frozenset(), "a factory adds bodies"
         scene = types.SimpleNamespace(contacts=runner.scene.contacts)
         for bodies, loop in ((PARALLEL_THRESHOLD - 1, BODIES_SERIAL), (PARALLEL_THRESHOLD, frozenset())):
             scene.body_count = bodies
