@@ -39,18 +39,18 @@ def test_a_lazy_column_is_allocated_on_first_use_with_defaults_in_the_rows_so_fa
         t.extar  # noqa: B018
 
 
-def test_copy_row_carries_a_lazy_column_only_where_it_exists():
+def test_copy_rows_carries_a_lazy_column_only_where_it_exists():
     src, dst = Table(COLUMNS), Table(COLUMNS)
     src.append_rows(2)
     dst.append_rows(2)
-    dst.copy_row(src, 0, 1)
+    dst.copy_rows(src, 0, 1)
     assert not dst.allocated("extra")     # nothing to carry: stays unallocated
     src.extra[1] = (3.0, 4.0)
-    dst.copy_row(src, 1, 0)
+    dst.copy_rows(src, 1, 0)
     assert dst.extra[:2].tolist() == [[3.0, 4.0], [7.0, 8.0]]
     src2 = Table(COLUMNS)
     src2.append_rows(1)
-    dst.copy_row(src2, 0, 0)              # the source never used it: the destination row gets the default
+    dst.copy_rows(src2, 0, 0)              # the source never used it: the destination row gets the default
     assert dst.extra[0].tolist() == [7.0, 8.0]
 
 
@@ -141,3 +141,88 @@ def test_tracking_energy_does_not_change_the_motion(yade):
         O.run(300, True)
         runs.append(np.array([tuple(b.state.pos) for b in O.bodies]))
     assert np.array_equal(runs[0], runs[1])
+
+
+def _mixed_bodies(y, frict, cpm):
+    """Bodies of every factory, several materials (the default one too), a CpmState, a bare body and a body made
+    from a shape object, not listed in the order they were made; explicit colours, so that two calls make the same
+    bodies."""
+    Sphere, Body = y.Sphere, y.Body
+    made_first = y.sphere((5, 5, 5), 0.5, material=cpm, fixed=True, color=(1, 0, 1))   # listed after others
+    out = [y.sphere((0, 0, 0.02 * k), 0.01 + 0.001 * k, material=frict if k % 3 else -1, color=(0.1 * k, 0, 0))
+           for k in range(5)]
+    out += y.geom.facetBox((0, 0, 0), (1, 1, 1), material=frict, color=(0, 1, 0))
+    out += [y.box((1, 2, 3), (0.1, 0.2, 0.3), material=frict, color=(0, 0, 1)),
+            y.wall(0.5, 2, material=frict, color=(1, 1, 0)),
+            made_first,
+            Body(),
+            Body(shape=Sphere(radius=0.3, color=(0.5, 0.5, 0.5)), material=frict),
+            y.sphere((6, 6, 6), 0.2, material=frict, color=(0, 0.5, 0))]
+    return out
+
+
+def _scene_snapshot(y):
+    scene = y.O._scene
+    columns = {name: scene.bodies.stored(name)[:scene.body_count].copy() for name in scene.bodies.__dict__
+               if isinstance(getattr(scene.bodies, name), np.ndarray)}
+    shapes = {int(kind): {c.name: t.stored(c.name)[:t.count].copy() for c in t.columns}
+              for kind, t in scene.shapes.items()}
+    materials = [(type(m).__name__, m.density) for m in scene.materials]
+    born = (scene.born.iter[:scene.body_count].copy(), scene.born.time[:scene.body_count].copy())
+    return columns, shapes, materials, born
+
+
+def test_appending_a_list_of_bodies_stores_what_appending_them_one_by_one_stores(yade):
+    """``O.bodies.append(list)`` copies the columns of all the bodies at once; appending them one at a time is the
+    reference: the same ids, body columns, shape rows, materials (in the order they first appear), birth steps."""
+    stored = []
+    for one_by_one in (False, True):
+        yade.O.reset()
+        yade.O._scene.iter = 7   # (read-only in YADE)
+        frict = yade.FrictMat(density=2000)
+        cpm = yade.CpmMat(density=2500)
+        yade.O.bodies.append(yade.sphere((9, 9, 9), 1.0, material=frict, color=(1, 1, 1)))  # a scene not empty
+        bodies = _mixed_bodies(yade, frict, cpm)
+        yade.O.materials.append(yade.FrictMat(density=3000))   # the default material of the bare body, appended
+        ids = [yade.O.bodies.append(b) for b in bodies] if one_by_one else yade.O.bodies.append(bodies)
+        assert ids == list(range(1, 1 + len(bodies)))
+        assert [b.id for b in bodies] == ids                       # the handles now look into the scene
+        assert yade.O.bodies[3].shape.radius == pytest.approx(0.012)   # the third of the list
+        assert type(yade.O.bodies[ids[-4]].state).__name__ == "CpmState"
+        stored.append(_scene_snapshot(yade))
+    (cols, shapes, materials, born), (cols1, shapes1, materials1, born1) = stored
+    assert cols.keys() == cols1.keys()
+    for name in cols:
+        np.testing.assert_array_equal(cols[name], cols1[name], err_msg=name)
+    assert shapes.keys() == shapes1.keys()
+    for kind in shapes:
+        for name in shapes[kind]:
+            np.testing.assert_array_equal(shapes[kind][name], shapes1[kind][name], err_msg=f"{kind} {name}")
+    assert materials == materials1 == [("FrictMat", 2000), ("FrictMat", 1000), ("CpmMat", 2500),
+                                            ("FrictMat", 3000)]
+    np.testing.assert_array_equal(born[0], born1[0])
+    assert (born[0] == 7).all()
+
+
+def test_a_list_with_a_body_already_appended_appends_the_bodies_before_it_and_stops(yade):
+    a, b, c = (yade.sphere((0, 0, k), 0.1) for k in range(3))
+    yade.O.bodies.append(b)
+    with pytest.raises(ValueError, match="already in a simulation"):
+        yade.O.bodies.append([a, b, c])
+    assert (a.id, b.id, c.id) == (1, 0, -1) and len(yade.O.bodies) == 2
+    d = yade.sphere((0, 0, 5), 0.1)
+    with pytest.raises(ValueError, match="already in a simulation"):
+        yade.O.bodies.append([d, d])                              # the same body twice
+    assert d.id == 2 and len(yade.O.bodies) == 3
+
+
+def test_bodies_made_and_dropped_reuse_the_rows_of_the_storage_of_detached_bodies(yade):
+    """A script making and dropping bodies in a loop while another one is kept must not grow the storage of the
+    detached bodies without end."""
+    from granum.yade.bodies import _NURSERY
+
+    kept = yade.sphere((0, 0, 0), 1.0)
+    for k in range(5000):
+        yade.sphere((0, 0, k), 0.1)
+        yade.Sphere(radius=0.1)
+    assert kept.id == -1 and _NURSERY.bodies.count <= 2 * _NURSERY.BLOCK

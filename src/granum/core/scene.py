@@ -4,8 +4,8 @@ A :class:`BodyStore` holds the body table, the per-kind shape tables and the
 materials the bodies refer to; a :class:`Scene` adds the interaction storage, the
 clock, the energy accumulators, the periodic cell and the engine list. Detached
 YADE objects (a ``Body`` built by ``utils.sphere`` before it is appended) keep their
-values in a one-row :class:`BodyStore` of their own, so the same code reads and
-writes attached and detached objects.
+values in rows of a :class:`BodyStore` shared by them (``granum.yade.bodies._Nursery``), so the same code
+reads and writes attached and detached objects.
 """
 
 from __future__ import annotations
@@ -243,11 +243,11 @@ class Scene(BodyStore):
             t.clear()
         self.contacts = new_contact_arrays(0, periodic=self.periodic)
 
-    def add_body_row(self) -> int:
-        """Append a body row (all defaults); return its id."""
-        i = self.bodies.append_rows(1)
-        k = self.born.append_rows(1)
-        self.born.iter[k], self.born.time[k] = self.iter, self.time
+    def add_body_rows(self, count: int = 1) -> int:
+        """Append ``count`` body rows (all defaults); return the id of the first."""
+        i = self.bodies.append_rows(count)
+        k = self.born.append_rows(count)
+        self.born.iter[k:k + count], self.born.time[k:k + count] = self.iter, self.time
         self.needs_collider()
         return i
 

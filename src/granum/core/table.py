@@ -124,18 +124,20 @@ class Table:
         self.count += k
         return first
 
-    def copy_row(self, src: Table, src_row: int, dst_row: int) -> None:
-        """Copy every column of ``src[src_row]`` into row ``dst_row`` of this table."""
+    def copy_rows(self, src: Table, src_rows, dst_rows) -> None:
+        """Copy every column of ``src[src_rows]`` into rows ``dst_rows`` of this table: a row index each, or
+        index arrays of one length (n,) int (one NumPy copy a column for all the rows)."""
         for c in self._columns.values():
             if src.allocated(c.name):
-                getattr(self, c.name)[dst_row] = getattr(src, c.name)[src_row]
+                getattr(self, c.name)[dst_rows] = getattr(src, c.name)[src_rows]
             elif self.allocated(c.name):
-                getattr(self, c.name)[dst_row] = c.default
+                getattr(self, c.name)[dst_rows] = c.default
 
-    def reset_row(self, row: int) -> None:
-        """Put the column defaults back into row ``row`` (for reusing it)."""
+    def reset_rows(self, rows) -> None:
+        """Put the column defaults back into rows ``rows`` (a row index or an index array (n,) int), for reusing
+        them."""
         for c in self._allocated_columns():
-            getattr(self, c.name)[row] = c.default
+            getattr(self, c.name)[rows] = c.default
 
     def view(self, name: str) -> np.ndarray:
         """The live rows ``[0, count)`` of column ``name``."""

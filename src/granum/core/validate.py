@@ -27,12 +27,14 @@ class Rule(NamedTuple):
     holds: Callable[[np.ndarray], np.ndarray]
     item_ndim: int = 0
 
-    def check(self, value, name: str, error: type[Exception] = ValueError) -> None:
+    def check(self, value, name: str | Callable[[], str], error: type[Exception] = ValueError) -> None:
         """Raise ``error`` (a ValueError by default) naming ``name`` unless the single item ``value``
-        obeys the rule."""
-        if not bool(np.all(self.holds(np.asarray(value, dtype=float)))):
+        obeys the rule. ``name`` may be a function that makes the name, called only for the error (a setter
+        checking values in a loop need not format a name each time)."""
+        # a float goes to the rule as it is (0-d arrays and np.all cost several microseconds a value)
+        if not (self.holds(value) if type(value) is float else self.holds(np.asarray(value, dtype=float)).all()):
             shown = value if np.ndim(value) == 0 else tuple(np.asarray(value).ravel().tolist())
-            raise error(f"{name} {self.says}, got {shown!r}")
+            raise error(f"{name if isinstance(name, str) else name()} {self.says}, got {shown!r}")
 
     def check_items(self, values: np.ndarray, name: str, ids=None) -> None:
         """Raise ValueError unless every item of ``values`` (items along the leading axes) obeys the

@@ -269,7 +269,7 @@ def make_clump(scene, ids, discretization: int = 0) -> int:
     mass_properties(scene, ids, discretization)  # any error before the scene changes
     vel, ang_vel = member_velocities(scene, ids)
     b = scene.bodies
-    k = scene.add_body_row()
+    k = scene.add_body_rows()
     table = scene.shapes[ShapeKind.CLUMP]
     row = table.append_rows(1)
     table.member_first[row], table.member_count[row] = 0, 0

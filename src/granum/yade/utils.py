@@ -91,21 +91,33 @@ def _vec3(value, what: str) -> np.ndarray:
         raise type(e)(f"{what}: {e}") from None
 
 
-def _body(factory, shape, center, material, fixed, dynamic, mask, orientation=None):
-    """The body of a factory: ``fixed`` (or ``dynamic=False``) blocks its six DOFs; ``mask`` is an integer; the
-    mass and inertia of a uniform body of the material's density, for a shape kind that declares them
+def _shaped(shape_class, color, **values) -> Body:
+    """A new detached body of shape ``shape_class`` (:meth:`Shape.new_body`) coloured ``color``, or at random
+    (:func:`randomColor`'s draw) when it is None."""
+    b = shape_class.new_body(color=color, **values)
+    if color is None:
+        b._store.bodies.color[b._row] = (_rng.random(), _rng.random(), _rng.random())
+    return b
+
+
+def _body(factory, b, center, material, fixed, dynamic, mask, orientation=None):
+    """The body of a factory, ``b`` (a new detached body with its shape, :meth:`Shape.new_body`), completed:
+    ``fixed`` (or ``dynamic=False``) blocks its six DOFs; ``mask`` is an integer; the mass and inertia of a
+    uniform body of the material's density, for a shape kind that declares them
     (:attr:`granum.core.shapes.ShapeType.mass`; massless otherwise)."""
     fixed, dynamic = _flags(factory, fixed=fixed, dynamic=dynamic).values()
     center = _vec3(center, f"{factory}: center")
-    b = Body(shape=shape, material=_material(material), mask=as_integer(mask, f"{factory}: mask"))
-    if b.material.state_class() is not State:   # the material needs its own state class (CpmMat: CpmState)
-        b.state = b.material.newAssocState()
+    b.material = mat = _material(material)
+    b.mask = as_integer(mask, f"{factory}: mask")
+    if mat.state_class() is not State:   # the material needs its own state class (CpmMat: CpmState)
+        b.state = mat.newAssocState()
     st = b.state
+    shape = b.shape
     mass = shape_type(shape.kind).mass
     if mass is not None:
-        st.mass, st.inertia = mass(b.material.density, *b.shape._table())
+        st.mass, st.inertia = mass(mat.density, *shape._table())
     st.pos = center
-    st.refPos = center
+    b._store.bodies.ref_pos[b._row] = b._store.bodies.pos[b._row]   # the value just checked
     if orientation is not None:
         st.ori = orientation
         st.refOri = orientation
@@ -125,9 +137,8 @@ def sphere(center, radius, dynamic=None, fixed=False, wire=False, color=None, hi
     O.materials, a callable returning a Material, or -1 for the last defined one.
     """
     wire, highlight = _flags("sphere", wire=wire, highlight=highlight).values()
-    shape = Sphere(radius=as_number(radius, "sphere: radius"), color=randomColor() if color is None else color,
-                   wire=wire, highlight=highlight)
-    return _body("sphere", shape, center, material, fixed, dynamic, mask)
+    b = _shaped(Sphere, color, radius=as_number(radius, "sphere: radius"), wire=wire, highlight=highlight)
+    return _body("sphere", b, center, material, fixed, dynamic, mask)
 
 
 def facet(vertices, dynamic=None, fixed=True, wire=True, color=None, highlight=False, noBound=False,
@@ -150,9 +161,8 @@ def facet(vertices, dynamic=None, fixed=True, wire=True, color=None, highlight=F
         raise ValueError("facet: the three vertices coincide")
     center = (edges[:, None] * v).sum(axis=0) / edges.sum()
     wire, highlight = _flags("facet", wire=wire, highlight=highlight).values()
-    shape = Facet(vertices=list(v - center), color=randomColor() if color is None else color, wire=wire,
-                  highlight=highlight)
-    return _body("facet", shape, center, material, fixed, dynamic, mask)
+    b = _shaped(Facet, color, vertices=list(v - center), wire=wire, highlight=highlight)
+    return _body("facet", b, center, material, fixed, dynamic, mask)
 
 
 def wall(position, axis, sense=0, color=None, material=-1, mask=1):
@@ -164,17 +174,17 @@ def wall(position, axis, sense=0, color=None, material=-1, mask=1):
         center[axis] = float(position)
     else:
         center = _vec3(position, "wall: position")
-    shape = Wall(axis=axis, sense=sense, color=randomColor() if color is None else color)
-    return _body("wall", shape, center, material, True, None, mask)
+    b = _shaped(Wall, color, axis=axis, sense=sense)
+    return _body("wall", b, center, material, True, None, mask)
 
 
 def box(center, extents, orientation=None, dynamic=None, fixed=False, wire=False, color=None, highlight=False,
         material=-1, mask=1):
     """A box with half-sizes ``extents``: mass 8 rho e0 e1 e2, inertia m/3 (e1^2+e2^2, ...); aspherical."""
     wire, highlight = _flags("box", wire=wire, highlight=highlight).values()
-    shape = Box(extents=extents, color=randomColor() if color is None else color, wire=wire, highlight=highlight)
+    b = _shaped(Box, color, extents=extents, wire=wire, highlight=highlight)
     ori = Quaternion(1, 0, 0, 0) if orientation is None else Quaternion(*_wxyz(orientation))
-    return _body("box", shape, center, material, fixed, dynamic, mask, ori)
+    return _body("box", b, center, material, fixed, dynamic, mask, ori)
 
 
 def _wxyz(q):
