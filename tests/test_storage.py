@@ -26,6 +26,16 @@ def test_appended_rows_hold_the_defaults_after_growth_and_clear():
     assert (t.q[:4] == (1.0, 0.0, 0.0, 0.0)).all() and (t.x[:4] == 0.0).all()
 
 
+def test_rows_appended_in_one_go_leave_room_for_a_few_more():
+    """A list of bodies appended at once grows the table to a power of two, not to the rows alone: the few bodies
+    appended next (a facet box) must not copy every column into arrays twice as long."""
+    t = Table(COLUMNS, capacity=8)
+    t.append_rows(1000)
+    assert t.x.shape[0] == 1024
+    t.append_rows(12)
+    assert t.x.shape[0] == 1024 and (t.q[1000:1012] == (1.0, 0.0, 0.0, 0.0)).all()
+
+
 def test_a_lazy_column_is_allocated_on_first_use_with_defaults_in_the_rows_so_far():
     t = Table(COLUMNS)
     t.append_rows(3)

@@ -118,7 +118,8 @@ class Table:
         """Add ``k`` rows holding the column defaults; return the index of the first."""
         first = self.count
         if first + k > self._capacity:
-            self._grow(max(2 * self._capacity, first + k))
+            # at least doubled, to a power of two: rows appended in one go (a list of bodies) leave room too
+            self._grow(max(2 * self._capacity, 1 << (first + k - 1).bit_length()))
         for c in self._allocated_columns():
             getattr(self, c.name)[first:first + k] = c.default
         self.count += k
