@@ -197,6 +197,7 @@ def test_appending_a_list_of_bodies_stores_what_appending_them_one_by_one_stores
         ids = [yade.O.bodies.append(b) for b in bodies] if one_by_one else yade.O.bodies.append(bodies)
         assert ids == list(range(1, 1 + len(bodies)))
         assert [b.id for b in bodies] == ids                       # the handles now look into the scene
+        assert all(type(b) is yade.Body for b in bodies)             # and have no row of the nursery to give back
         assert yade.O.bodies[3].shape.radius == pytest.approx(0.012)   # the third of the list
         assert type(yade.O.bodies[ids[-4]].state).__name__ == "CpmState"
         stored.append(_scene_snapshot(yade))
@@ -232,6 +233,7 @@ def test_bodies_made_and_dropped_reuse_the_rows_of_the_storage_of_detached_bodie
     from granum.yade.bodies import _NURSERY
 
     kept = yade.sphere((0, 0, 0), 1.0)
+    assert isinstance(kept, yade.Body) and type(kept).__name__ == "Body"
     for k in range(5000):
         yade.sphere((0, 0, k), 0.1)
         yade.Sphere(radius=0.1)
