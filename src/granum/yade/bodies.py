@@ -566,7 +566,7 @@ class Shape(_View):
         """A new detached body of this shape, as ``Body(shape=cls(color=color, ...))`` makes (the utils factories'
         bodies), with the shape written straight into the body's rows rather than into rows of its own first and
         copied."""
-        body = Body()
+        body = _detached_handle()   # Body() without its setters: a new row holds Body()'s defaults
         cls._view(body)._fill(color, wire, highlight, values)
         body._store.bodies.aspherical[body._row] = shape_type(cls.kind).aspherical
         body._sync_ang_mom()

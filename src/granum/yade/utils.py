@@ -14,6 +14,7 @@ import warnings
 import numpy as np
 
 from granum._jit import call
+from granum.core import validate
 from granum.core.attrs import as_flag, as_integer, as_number
 from granum.core.bodies import DOF_ALL
 from granum.core.contacts import (
@@ -116,8 +117,9 @@ def _body(factory, b, center, material, fixed, dynamic, mask, orientation=None):
     mass = shape_type(shape.kind).mass
     if mass is not None:
         st.mass, st.inertia = mass(mat.density, *shape._table())
-    st.pos = center
-    b._store.bodies.ref_pos[b._row] = b._store.bodies.pos[b._row]   # the value just checked
+    validate.FINITE_VECTOR.check(center, lambda: f"{type(st).__name__}.pos")   # what st.pos = center checks
+    rows = b._store.bodies
+    rows.pos[b._row] = rows.ref_pos[b._row] = center
     if orientation is not None:
         st.ori = orientation
         st.refOri = orientation
