@@ -86,9 +86,9 @@ def _detached_handle() -> Body:
 
 
 def _all_detached(bodies) -> bool:
-    """Whether ``bodies`` are all bodies of the nursery, each once (then they may be appended together)."""
-    return (all([type(x) is _DetachedBody and x._store is _NURSERY for x in bodies])
-            and len({x._row for x in bodies}) == len(bodies))
+    """Whether ``bodies`` are all bodies of the nursery (a ``_DetachedBody`` is one), each once (then they may be
+    appended together)."""
+    return all([type(x) is _DetachedBody for x in bodies]) and len({x._row for x in bodies}) == len(bodies)
 
 
 def _finite3(view, name: str, value) -> np.ndarray:
@@ -852,31 +852,32 @@ class BodyContainer:
         scene, nursery = self._scene, _NURSERY
         rows = np.array([x._row for x in bodies], np.int64)
         first = scene.add_body_rows(len(rows))
-        ids = np.arange(first, first + len(rows))
-        scene.bodies.copy_rows(nursery.bodies, rows, ids)
-        kinds = nursery.bodies.shape_kind[rows]
-        for kind in np.unique(kinds):   # a shape table per kind: the rows of each kind in the bodies' order
+        new = slice(first, first + len(rows))
+        scene.bodies.copy_rows(nursery.bodies, rows, new)
+        by_kind: dict = {}   # a shape table per kind: the positions in ``bodies`` of each kind, in their order
+        for j, kind in enumerate(nursery.bodies.shape_kind[rows].tolist()):
+            by_kind.setdefault(kind, []).append(j)
+        for kind, of_kind in by_kind.items():
             table = nursery.shapes.get(ShapeKind(kind))
             if table is None:
                 continue
-            of_kind = np.flatnonzero(kinds == kind)
             dst = scene.shapes[ShapeKind(kind)]
-            shape_rows = np.arange(dst.append_rows(len(of_kind)), dst.count)
-            dst.copy_rows(table, nursery.bodies.shape_row[rows[of_kind]], shape_rows)
-            scene.bodies.shape_row[ids[of_kind]] = shape_rows
-        materials = nursery.bodies.material[rows]   # -1: none given, the default material
-        values, first_seen, which = np.unique(materials, return_index=True, return_inverse=True)
-        in_scene = np.zeros(len(values), np.int32)
-        for j in np.argsort(first_seen).tolist():   # added to the scene in the order they first appear
-            k = int(values[j])
-            in_scene[j] = scene.material_index(nursery.materials[k] if k >= 0 else self._omega.default_material())
-        scene.bodies.material[ids] = in_scene[which]
-        scene.bodies.alive[ids] = True
-        scene.bodies.clump_id[ids] = -1
+            start = dst.append_rows(len(of_kind))
+            of_kind = np.array(of_kind)
+            dst.copy_rows(table, nursery.bodies.shape_row[rows[of_kind]], slice(start, dst.count))
+            scene.bodies.shape_row[first + of_kind] = np.arange(start, dst.count)
+        materials = nursery.bodies.material[rows].tolist()   # -1: none given, the default material
+        in_scene: dict = {}
+        for k in materials:   # added to the scene in the order they first appear
+            if k not in in_scene:
+                in_scene[k] = scene.material_index(nursery.materials[k] if k >= 0 else self._omega.default_material())
+        scene.bodies.material[new] = [in_scene[k] for k in materials]
+        scene.bodies.alive[new] = True
+        scene.bodies.clump_id[new] = -1
         set_attribute = object.__setattr__
-        out = ids.tolist()
+        out = list(range(first, first + len(rows)))
         for x, i in zip(bodies, out, strict=True):
-            set_attribute(x, "__class__", Body)
+            set_attribute(x, "__class__", Body)   # all are _DetachedBody (_all_detached)
             set_attribute(x, "_store", scene)
             set_attribute(x, "_row", i)
         nursery.release(*rows.tolist())

@@ -117,7 +117,7 @@ def _body(factory, b, center, material, fixed, dynamic, mask, orientation=None):
     mass = shape_type(shape.kind).mass
     if mass is not None:
         st.mass, st.inertia = mass(mat.density, *shape._table())
-    validate.FINITE_VECTOR.check(center, lambda: f"{type(st).__name__}.pos")   # what st.pos = center checks
+    validate.FINITE_VECTOR.check(center, lambda: f"{st._owner()}.pos")   # what st.pos = center checks
     rows = b._store.bodies
     rows.pos[b._row] = rows.ref_pos[b._row] = center
     if orientation is not None:
