@@ -21,7 +21,7 @@ from granum.kernels.collider import ColliderParams
 from granum.kernels.dispatch import code_of, functors
 from granum.kernels.forces import GravityParams
 from granum.kernels.interaction import InteractionParams
-from granum.kernels.newton import NewtonParams
+from granum.kernels.newton import NewtonParams, vectorized
 from granum.kernels.static import Static
 from granum.mathtypes import Matrix3, Vector3, as_vec3
 from granum.physics import registry
@@ -360,12 +360,14 @@ class NewtonIntegrator(GlobalEngine):
 
     def params_key(self, scene, held: list) -> tuple:
         """The integrator's parameters are its attributes' values (the gravity vector read, not its edit count: a
-        vector changed in place counts too)."""
-        return self.damping, self.gravity._a.tolist(), self.dampGravity, self.mask
+        vector changed in place counts too) and whether the scene is large enough for the vectorized steps."""
+        return (self.damping, self.gravity._a.tolist(), self.dampGravity, self.mask,
+                vectorized(scene.body_count).value)
 
     def params(self, scene, engines) -> NewtonParams:
         return NewtonParams(gravity=np.array(self.gravity._a, dtype=np.float64), damping=float(self.damping),
-                            damp_gravity=bool(self.dampGravity), mask=int(self.mask))
+                            damp_gravity=bool(self.dampGravity), mask=int(self.mask),
+                            vectorized=vectorized(scene.body_count))
 
 
 class GravityEngine(GlobalEngine):

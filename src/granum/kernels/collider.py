@@ -60,7 +60,7 @@ from granum.kernels.pairing import may_collide, scratch_width
 from granum.kernels.schedule import block_queue, next_block, queue_workers
 from granum.kernels.scratch import area, take_u1, words_u1
 from granum.kernels.sorting import argsort_keys, lower_bound, median
-from granum.kernels.static import Static, static_value
+from granum.kernels.static import Static, static_switch, static_value
 
 
 @jit(inline="always")  # per body or per candidate: no call
@@ -600,15 +600,13 @@ def appended_run(appends, S, C, nb, bound_code, bound_tab, verlet_dist, avoid_se
     raise TypeError("appended_run is called from compiled kernels only")
 
 
-@overload(appended_run)
-def _appended_run(appends, S, C, nb, bound_code, bound_tab, verlet_dist, avoid_self, flags):
-    value = static_value(appends, "appends")
-    if value is None:
-        return None
-    if value[1]:
-        return lambda appends, S, C, nb, bound_code, bound_tab, verlet_dist, avoid_self, flags: append_bodies(
-            S, C, nb, bound_code, bound_tab, verlet_dist, avoid_self, flags)
-    return lambda appends, S, C, nb, bound_code, bound_tab, verlet_dist, avoid_self, flags: False
+@jit
+def nothing_appended(S, C, nb, bound_code, bound_tab, verlet_dist, avoid_self, flags):
+    """:func:`appended_run` in a plan without an engine that adds bodies: never such a run."""
+    return False
+
+
+static_switch(appended_run, "appends", append_bodies, nothing_appended)
 
 
 class ColliderParams(NamedTuple):

@@ -15,6 +15,8 @@ from numba import types
 from numba.core import cgutils
 from numba.extending import NativeValue, models, register_model, typeof_impl, unbox
 
+from granum._jit import overload
+
 
 class Static:
     """A compile-time value for kernels (a hashable tuple)."""
@@ -57,3 +59,17 @@ register_model(StaticType)(models.OpaqueModel)
 @unbox(StaticType)
 def _unbox_static(typ, obj, c):
     return NativeValue(cgutils.get_null_value(c.context.get_value_type(typ)))
+
+
+def static_switch(stub, kind: str, when_true, when_false) -> None:
+    """Let compiled code call ``stub(flag, *args)`` with a static ``(kind, bool)`` flag: the call compiles to
+    ``when_true(*args)`` or ``when_false(*args)`` by the flag's value, and the other function is not compiled.
+    ``stub`` is a Python function with the call's signature that raises if Python calls it."""
+
+    @overload(stub)
+    def choose(flag, *args):
+        value = static_value(flag, kind)
+        if value is None:
+            return None
+        target = when_true if value[1] else when_false
+        return lambda flag, *args: target(*args)

@@ -86,13 +86,19 @@ def quat_rotate_inv(q, v):
     return quat_rotate((q[0], -q[1], -q[2], -q[3]), v)
 
 
-@jit
-def quat_mul(a, b):
-    """Hamilton product ``a * b`` of quaternions (w, x, y, z)."""
+@jit(inline="always")  # also inlined where a loop must vectorize (a call stops LLVM's loop vectorizer)
+def quat_mul_inlined(a, b):
+    """Hamilton product ``a * b`` of quaternions (w, x, y, z), inlined where it is called."""
     return (a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3],
             a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2],
             a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1],
             a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0])
+
+
+@jit
+def quat_mul(a, b):
+    """Hamilton product ``a * b`` of quaternions (w, x, y, z)."""
+    return quat_mul_inlined(a, b)
 
 
 @jit
@@ -112,11 +118,24 @@ def quat_renormalized(q):
     |e| < 1e-6 and exact to rounding for |e| ~ 1e-16, without square root or division (with them, the
     renormalization took 56 of NewtonIntegrator's 470 us a step on the 10,000-sphere drum, one thread).
     Farther from unit: :func:`quat_normalized`."""
-    e = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3] - 1.0
+    e = norm_excess(q)
     if abs(e) < RENORM_SERIES_MAX:
-        f = 1.0 - 0.5 * e
-        return (q[0] * f, q[1] * f, q[2] * f, q[3] * f)
+        return renormalized_series(q, e)
     return quat_normalized(q)
+
+
+@jit(inline="always")
+def norm_excess(q):
+    """|q|^2 - 1 of a quaternion (w, x, y, z)."""
+    return q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3] - 1.0
+
+
+@jit(inline="always")
+def renormalized_series(q, e):
+    """:func:`quat_renormalized`'s series, q (1 - e/2), for ``e`` = :func:`norm_excess` of q below
+    RENORM_SERIES_MAX in magnitude."""
+    f = 1.0 - 0.5 * e
+    return (q[0] * f, q[1] * f, q[2] * f, q[3] * f)
 
 
 @jit
@@ -131,15 +150,23 @@ def quat_from_rotvec(r):
     """
     a2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2]
     if a2 < ROTVEC_SERIES_MAX2:
-        h2 = 0.25 * a2
-        k, j = _COS_STEPS, _SINC_STEPS  # nested (Horner) form: 1 - h^2/2 (1 - h^2/12 (1 - ...)), ...
-        c = 1.0 - h2 * k[0] * (1.0 - h2 * k[1] * (1.0 - h2 * k[2] * (1.0 - h2 * k[3])))
-        s = 0.5 * (1.0 - h2 * j[0] * (1.0 - h2 * j[1] * (1.0 - h2 * j[2] * (1.0 - h2 * j[3]))))
+        c, s = rotvec_series(a2)
     else:
         angle = math.sqrt(a2)
         c = math.cos(0.5 * angle)
         s = math.sin(0.5 * angle) / angle
     return (c, r[0] * s, r[1] * s, r[2] * s)
+
+
+@jit(inline="always")
+def rotvec_series(a2):
+    """The factors (c, s) of :func:`quat_from_rotvec`, (c, r s), from their series, for a squared angle
+    a2 = |r|^2 below ROTVEC_SERIES_MAX2 [rad^2]."""
+    h2 = 0.25 * a2
+    k, j = _COS_STEPS, _SINC_STEPS  # nested (Horner) form: 1 - h^2/2 (1 - h^2/12 (1 - ...)), ...
+    c = 1.0 - h2 * k[0] * (1.0 - h2 * k[1] * (1.0 - h2 * k[2] * (1.0 - h2 * k[3])))
+    s = 0.5 * (1.0 - h2 * j[0] * (1.0 - h2 * j[1] * (1.0 - h2 * j[2] * (1.0 - h2 * j[3]))))
+    return c, s
 
 
 @jit
