@@ -290,3 +290,38 @@ def test_work_area_pieces_are_the_views_numpy_names():
     assert CONTACTS.from_record(C).scratch.ctypes.data == w.ctypes.data
     _fill_pieces(C, 25)   # larger: grown by half at least
     assert CONTACTS.from_record(C).scratch.shape == (30,)
+
+
+def test_spheres_left_counts_what_the_per_body_test_finds():
+    """The collider's vectorized test for blocks of live bounded spheres (granum.kernels.bounds.spheres_left)
+    counts the bodies whose centre moved farther than the Verlet distance (any motion at all for a distance of 0;
+    a NaN position counts), computed here in NumPy; live_bounded_spheres accepts exactly such blocks."""
+    from granum.core.shapes import ShapeKind
+    from granum.kernels.bounds import live_bounded_spheres, spheres_left
+
+    rng = np.random.default_rng(12)
+    n = 600
+    bound_pos = rng.random((n, 3))
+    pos = bound_pos + rng.normal(size=(n, 3)) * 0.01
+    pos[::9] = bound_pos[::9]          # not moved
+    pos[5, 1] = np.nan
+    for lo, hi in ((0, 512), (512, 600), (7, 8), (3, 3 + 1)):
+        for verlet in (0.0, 0.005, 0.02, 1.0):
+            d = pos[lo:hi] - bound_pos[lo:hi]
+            dist = np.sqrt(d[:, 0] * d[:, 0] + d[:, 1] * d[:, 1] + d[:, 2] * d[:, 2])
+            left = (dist > verlet) | ((verlet == 0.0) & (dist > 0.0)) | np.isnan(dist)
+            assert spheres_left(lo, hi, pos, bound_pos, verlet) == np.count_nonzero(left)
+    bound_max = bound_pos + 0.1
+    columns = {"alive": np.ones(n, bool), "kind": np.full(n, ShapeKind.SPHERE, np.int8), "bound_min": bound_pos - 0.1}
+
+    def spheres(hi=n, **changed):
+        c = {name: column.copy() for name, column in columns.items()}
+        for name, (row, value) in changed.items():
+            c[name][row] = value
+        return live_bounded_spheres(0, hi, c["alive"], c["kind"], c["bound_min"], bound_max)
+
+    assert spheres()
+    assert spheres(bound_min=(40, np.nan))   # a bound not taken yet: body_displacement measures it as bounded
+    for name, value in (("alive", False), ("kind", ShapeKind.FACET), ("bound_min", np.inf)):
+        assert not spheres(**{name: (41, value)})
+        assert spheres(hi=41, **{name: (41, value)})

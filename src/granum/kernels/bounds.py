@@ -18,6 +18,7 @@ from granum._codegen import import_line, load_module
 from granum._jit import BLOCK, PARALLEL_THRESHOLD, jit, kernel, prange
 from granum.core.arrays import S_VERLET
 from granum.core.records import borrow
+from granum.core.shapes import ShapeKind
 from granum.kernels.dispatch import bound_call
 from granum.kernels.schedule import block_queue, next_block, queue_workers
 from granum.physics import registry
@@ -79,10 +80,47 @@ def bounds_overlap(S, i, j):
 
 
 @jit
+def live_bounded_spheres(lo, hi, alive, shape_kind, bound_min, bound_max):
+    """Whether the bodies lo..hi-1 are all live spheres with a bound, whose :func:`body_displacement` is their
+    centre's alone (no reach). A count over views from 0, which LLVM vectorizes."""
+    n = hi - lo
+    alive, shape_kind, bound_min, bound_max = alive[lo:hi], shape_kind[lo:hi], bound_min[lo:hi], bound_max[lo:hi]
+    count = 0
+    for i in range(n):
+        count += alive[i] & (shape_kind[i] == ShapeKind.SPHERE) & ~(bound_min[i, 0] > bound_max[i, 0])
+    return count == n
+
+
+@jit(inline="always")
+def sphere_shift(i, pos, bound_pos):
+    """:func:`body_displacement`'s centre part for body ``i`` of flat (3 n,) views of positions and bound
+    positions [m]."""
+    return pos[3 * i] - bound_pos[3 * i], pos[3 * i + 1] - bound_pos[3 * i + 1], pos[3 * i + 2] - bound_pos[3 * i + 2]
+
+
+@jit
+def spheres_left(lo, hi, pos, bound_pos, verlet):
+    """How many of the bodies lo..hi-1, all :func:`live_bounded_spheres`, left their bound enlarged by ``verlet``
+    [m]: :func:`moved_block`'s test for each (its rotation term is zero), counted in a loop LLVM vectorizes."""
+    n = hi - lo
+    p, q = pos[lo:hi].reshape(3 * n), bound_pos[lo:hi].reshape(3 * n)
+    count = 0
+    for i in range(n):
+        dx, dy, dz = sphere_shift(i, p, q)
+        d = math.sqrt(dx * dx + dy * dy + dz * dz) + 0.0   # body_motion adds the rotation term, 0.0
+        count += (d > verlet) | ((verlet == 0.0) & (d > 0.0)) | (d != d)
+    return count
+
+
+@jit
 def moved_block(b, S, nb, flags):
     """Flag block ``b`` of bodies if one of them left its Verlet-enlarged bound."""
     verlet = S.scal[S_VERLET]
-    for i in range(b * BLOCK, min(nb, (b + 1) * BLOCK)):
+    lo, hi = b * BLOCK, min(nb, (b + 1) * BLOCK)
+    if live_bounded_spheres(lo, hi, S.alive, S.shape_kind, S.bound_min, S.bound_max):
+        flags[b] = spheres_left(lo, hi, S.pos, S.bound_pos, verlet) > 0
+        return
+    for i in range(lo, hi):
         d = body_motion(i, S)
         if d > verlet or (verlet == 0.0 and d > 0.0) or not d == d:
             flags[b] = 1
