@@ -20,14 +20,18 @@ from granum.kernels.schedule import block_queue, next_block, queue_workers
 def reset_block(b, S, nb):
     """Forces and torques of the bodies of block ``b`` back to the permanent ones (``perm_force`` and
     ``perm_torque`` are lazy columns: 0 rows until a script sets one). The columns are read into locals
-    once: ``S`` is a raw view, and a store could otherwise make the loop reload them from the record."""
-    force, torque, perm_force, perm_torque = S.force, S.torque, S.perm_force, S.perm_torque
-    perm_f = perm_force.shape[0] > 0
-    perm_t = perm_torque.shape[0] > 0
-    for i in range(b * BLOCK, min(nb, (b + 1) * BLOCK)):
-        for k in range(3):
-            force[i, k] = perm_force[i, k] if perm_f else 0.0
-            torque[i, k] = perm_torque[i, k] if perm_t else 0.0
+    once: ``S`` is a raw view, and a store could otherwise make the loop reload them from the record. Each column
+    is one loop over a flat view from 0, which LLVM vectorizes (a copy or a fill)."""
+    lo, hi = b * BLOCK, min(nb, (b + 1) * BLOCK)
+    for column, permanent in ((S.force, S.perm_force), (S.torque, S.perm_torque)):
+        out = column[lo:hi].reshape(3 * (hi - lo))
+        if permanent.shape[0] > 0:
+            values = permanent[lo:hi].reshape(3 * (hi - lo))
+            for j in range(out.size):
+                out[j] = values[j]
+        else:
+            for j in range(out.size):
+                out[j] = 0.0
 
 
 def _reset(S, nb):
