@@ -325,3 +325,17 @@ def test_spheres_left_counts_what_the_per_body_test_finds():
     for name, value in (("alive", False), ("kind", ShapeKind.FACET), ("bound_min", np.inf)):
         assert not spheres(**{name: (41, value)})
         assert spheres(hi=41, **{name: (41, value)})
+
+
+def test_budgets_exceeded_is_whether_a_pair_passes_the_quick_test():
+    """detect_block lists a block's pairs only when one of them has a budget not above the bound
+    (granum.kernels.interaction.budgets_exceeded): NumPy's answer, with infinite and NaN budgets."""
+    from granum.kernels.interaction import budgets_exceeded
+
+    rng = np.random.default_rng(13)
+    gaps = (rng.random(2000) * 1e-3).astype(np.float32)
+    gaps[::5] = np.inf
+    gaps[7] = np.nan   # not above any bound: tested
+    for lo, hi in ((0, 512), (8, 512), (512, 1024), (1500, 2000), (3, 3)):
+        for bound in (0.0, 1e-5, 5e-4, 2e-3):
+            assert budgets_exceeded(lo, hi, gaps, bound) == bool(np.any(~(gaps[lo:hi] > bound)))

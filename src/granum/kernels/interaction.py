@@ -157,6 +157,17 @@ def budget_f32(x):
 
 
 @jit
+def budgets_exceeded(lo, hi, pair_gap, bound):
+    """Whether a pair lo..hi-1 has a budget ``pair_gap`` not above ``bound`` [m] (:func:`detect_block`'s quick
+    test): a count over a view from 0, which LLVM vectorizes, read before listing the pairs one by one."""
+    gaps = pair_gap[lo:hi]
+    count = 0
+    for t in range(hi - lo):
+        count += not gaps[t] > bound
+    return count > 0
+
+
+@jit
 def detect_block(b, S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, bound, hits, candidates):
     """Which pairs of block ``b`` without a contact touch now: ``pair_hit``; ``hits[b]`` (2,): how many, and
     the first of them. ``candidates`` (BLOCK,) int32: the worker's scratch list of the pairs to test.
@@ -204,9 +215,10 @@ def detect_block(b, S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, bound
     listed = 0
     end = min(C.ctr[C_PAIRS], (b + 1) * BLOCK)
     if bound < math.inf:
-        for p in range(b * BLOCK, end):
-            candidates[listed] = p
-            listed += not pair_gap[p] > bound
+        if budgets_exceeded(b * BLOCK, end, pair_gap, bound):   # else nothing to test in the block (often)
+            for p in range(b * BLOCK, end):
+                candidates[listed] = p
+                listed += not pair_gap[p] > bound
     else:
         for p in range(b * BLOCK, end):
             candidates[listed] = p
