@@ -802,6 +802,8 @@ def gather_block(b, S, C, nb, ahead, laws):
     """Bodies of block ``b``; with ``ahead`` > 0, each while the rows of the body ``ahead`` later are on
     their way."""
     end = min(nb, (b + 1) * BLOCK)
+    if C.csr_start[b * BLOCK] == C.csr_start[end]:
+        return   # no contact in the block (the index is cumulative): a falling or resting cluster's blocks, mostly
     for i in range(b * BLOCK, end):
         if ahead and i + ahead < end:
             prefetch_contacts(i + ahead, C)
