@@ -170,9 +170,14 @@ PARALLEL_THRESHOLD = 4096
 #: Items (bodies, pairs, contacts) per iteration of block-wise parallel loops. Fixed, so that
 #: results never depend on the number of threads.
 BLOCK = 512
+
 #: Contact updates (geometry, physics, law: ~100 ns per contact, ten times the work per body or
 #: per pair) pay for waking the pool from two blocks on.
 PARALLEL_THRESHOLD_CONTACTS = BLOCK + 1
+
+#: Items from which a block's loops take their vectorized variants where they have one (ForceResetter, the
+#: collider's test): the flat views those loops run over cost a call into Numba's run time each (about 50 ns).
+VECTOR_MIN_ITEMS = 64
 
 
 def jit(fn=None, **kw):

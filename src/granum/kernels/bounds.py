@@ -15,7 +15,7 @@ import math
 import numpy as np
 
 from granum._codegen import import_line, load_module
-from granum._jit import BLOCK, PARALLEL_THRESHOLD, jit, kernel, prange
+from granum._jit import BLOCK, PARALLEL_THRESHOLD, VECTOR_MIN_ITEMS, jit, kernel, prange
 from granum.core.arrays import S_VERLET
 from granum.core.records import borrow
 from granum.core.shapes import ShapeKind
@@ -117,7 +117,7 @@ def moved_block(b, S, nb, flags):
     """Flag block ``b`` of bodies if one of them left its Verlet-enlarged bound."""
     verlet = S.scal[S_VERLET]
     lo, hi = b * BLOCK, min(nb, (b + 1) * BLOCK)
-    if live_bounded_spheres(lo, hi, S.alive, S.shape_kind, S.bound_min, S.bound_max):
+    if hi - lo >= VECTOR_MIN_ITEMS and live_bounded_spheres(lo, hi, S.alive, S.shape_kind, S.bound_min, S.bound_max):
         flags[b] = spheres_left(lo, hi, S.pos, S.bound_pos, verlet) > 0
         return
     for i in range(lo, hi):

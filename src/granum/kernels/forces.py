@@ -10,7 +10,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from granum._jit import BLOCK, PARALLEL_THRESHOLD, jit, kernel, prange
+from granum._jit import BLOCK, PARALLEL_THRESHOLD, VECTOR_MIN_ITEMS, jit, kernel, prange
 from granum.core.arrays import E_GRAV_WORK, S_DT, SI_NBODIES, SI_TRACK_ENERGY
 from granum.core.records import raw
 from granum.kernels.schedule import block_queue, next_block, queue_workers
@@ -21,8 +21,17 @@ def reset_block(b, S, nb):
     """Forces and torques of the bodies of block ``b`` back to the permanent ones (``perm_force`` and
     ``perm_torque`` are lazy columns: 0 rows until a script sets one). The columns are read into locals
     once: ``S`` is a raw view, and a store could otherwise make the loop reload them from the record. Each column
-    is one loop over a flat view from 0, which LLVM vectorizes (a copy or a fill)."""
+    is one loop over a flat view from 0, which LLVM vectorizes (a copy or a fill); a block of fewer than
+    VECTOR_MIN_ITEMS bodies is written row by row (a flat view is a call into Numba's run time, about 50 ns)."""
     lo, hi = b * BLOCK, min(nb, (b + 1) * BLOCK)
+    if hi - lo < VECTOR_MIN_ITEMS:
+        force, torque, perm_force, perm_torque = S.force, S.torque, S.perm_force, S.perm_torque
+        perm_f, perm_t = perm_force.shape[0] > 0, perm_torque.shape[0] > 0
+        for i in range(lo, hi):
+            for k in range(3):
+                force[i, k] = perm_force[i, k] if perm_f else 0.0
+                torque[i, k] = perm_torque[i, k] if perm_t else 0.0
+        return
     for column, permanent in ((S.force, S.perm_force), (S.torque, S.perm_torque)):
         out = column[lo:hi].reshape(3 * (hi - lo))
         if permanent.shape[0] > 0:
