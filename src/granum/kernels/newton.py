@@ -87,7 +87,7 @@ def damp(a, v, damping):
     return damp_inlined(a, v, damping)
 
 
-@jit(inline="always")  # in plain_block's loops, which LLVM vectorizes
+@jit(inline="always")  # also in plain_block's loops, which LLVM vectorizes
 def damped_acceleration(a, g, v_mid, damping, damp_gravity):
     """YADE's damping (:func:`damp`) of one component ``a`` = F/m + g of a body's acceleration [m/s^2], given its
     velocity estimated at the step ``v_mid`` [m/s]: of the whole acceleration with ``damp_gravity``, else of the
@@ -95,12 +95,6 @@ def damped_acceleration(a, g, v_mid, damping, damp_gravity):
     if damp_gravity:
         return damp_inlined(a, v_mid, damping)
     return damp_inlined(a - g, v_mid, damping) + g
-
-
-@jit
-def damped_acceleration_called(a, g, v_mid, damping, damp_gravity):
-    """:func:`damped_acceleration`, called (what is inlined compiles again at every place)."""
-    return damped_acceleration(a, g, v_mid, damping, damp_gravity)
 
 
 @jit
@@ -214,7 +208,7 @@ def translate(i, pos, vel, force, m, gravity, dt, blocked, damping, damp_gravity
             if track:
                 grav_work -= m * g * vf * dt
             if damping != 0.0:
-                ad = damped_acceleration_called(a, g, vf + 0.5 * dt * a, damping, damp_gravity)
+                ad = damped_acceleration(a, g, vf + 0.5 * dt * a, damping, damp_gravity)
                 if track:
                     damp_work += abs(m * (a - ad) * vf) * dt
                 a = ad

@@ -55,9 +55,14 @@ __all__ = [
 _rng = random.Random()
 
 
+def _random_rgb() -> tuple[float, float, float]:
+    """Three components uniform in [0, 1), drawn in order."""
+    return _rng.random(), _rng.random(), _rng.random()
+
+
 def randomColor():
     """A random colour, RGB components uniform in [0, 1)."""
-    return Vector3(_rng.random(), _rng.random(), _rng.random())
+    return Vector3(*_random_rgb())
 
 
 def defaultMaterial():
@@ -94,10 +99,10 @@ def _vec3(value, what: str) -> np.ndarray:
 
 def _shaped(shape_class, color, **values) -> Body:
     """A new detached body of shape ``shape_class`` (:meth:`Shape.new_body`) coloured ``color``, or at random
-    (:func:`randomColor`'s draw) when it is None."""
+    (:func:`_random_rgb`, randomColor's draw) when it is None."""
     b = shape_class.new_body(color=color, **values)
     if color is None:
-        b._store.bodies.color[b._row] = (_rng.random(), _rng.random(), _rng.random())
+        b._store.bodies.color[b._row] = _random_rgb()
     return b
 
 
