@@ -363,8 +363,9 @@ def test_gui_names_are_accepted_headless(yade):
 
 
 def test_detached_bodies_share_one_store_that_is_dropped_when_empty(yade):
-    """utils.sphere() bodies are rows of one shared store until appended: independent of each other,
-    and the store's tables are freed once every detached body was appended or dropped."""
+    """utils.sphere() bodies are rows of one shared store until appended: independent of each other;
+    once every detached body was appended or dropped, the store's tables are freed when they are long, and
+    kept for the next bodies when they are short (a script appending its spheres one at a time reuses them)."""
     from granum.yade.bodies import _NURSERY
 
     a, b = yade.sphere((0, 0, 0), 0.5), yade.sphere((1, 0, 0), 0.25)
@@ -372,9 +373,17 @@ def test_detached_bodies_share_one_store_that_is_dropped_when_empty(yade):
     assert tuple(b.state.vel) == (0, 0, 0) and b.shape.radius == 0.25 and a.id == b.id == -1
     assert _NURSERY.live >= 2
     yade.O.bodies.append([a, b])
-    assert _NURSERY.live == 0 and _NURSERY.bodies.count == 0
+    assert _NURSERY.live == 0
     assert tuple(yade.O.bodies[0].state.vel) == (1, 2, 3) and yade.O.bodies[1].shape.radius == 0.25
-    dropped = [yade.sphere((k, 0, 0), 0.1) for k in range(100)]
-    assert _NURSERY.bodies.count >= 100
+    tables = _NURSERY.bodies
+    for k in range(600):   # one at a time: the rows are reused, the tables kept (two blocks of rows at most)
+        c = yade.sphere((k, 0, 0), 0.1, color=(0, 0, 1))
+        assert tuple(c.state.vel) == (0, 0, 0) and tuple(c.shape.color) == (0, 0, 1)   # a reused row is reset
+        c.state.vel = (k, 0, 0)
+        yade.O.bodies.append(c)
+    assert _NURSERY.bodies is tables and _NURSERY.bodies.count <= 2 * _NURSERY.BLOCK
+    assert [tuple(yade.O.bodies[i].state.vel) for i in (2, 601)] == [(0, 0, 0), (599, 0, 0)]
+    dropped = [yade.sphere((k, 0, 0), 0.1) for k in range(_NURSERY.KEEP_ROWS + 1)]
+    assert _NURSERY.bodies.count > _NURSERY.KEEP_ROWS
     del dropped
-    assert _NURSERY.live == 0 and _NURSERY.bodies.count == 0
+    assert _NURSERY.live == 0 and _NURSERY.bodies.count == 0   # long tables: freed

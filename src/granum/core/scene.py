@@ -243,9 +243,10 @@ class Scene(BodyStore):
             t.clear()
         self.contacts = new_contact_arrays(0, periodic=self.periodic)
 
-    def add_body_rows(self, count: int = 1) -> int:
-        """Append ``count`` body rows (all defaults); return the id of the first."""
-        i = self.bodies.append_rows(count)
+    def add_body_rows(self, count: int = 1, src: Table | None = None, src_rows=None) -> int:
+        """Append ``count`` body rows, all defaults or copies of ``src[src_rows]`` (:meth:`Table.append_copy`);
+        return the id of the first."""
+        i = self.bodies.append_rows(count) if src is None else self.bodies.append_copy(src, src_rows, count)
         k = self.born.append_rows(count)
         self.born.iter[k:k + count], self.born.time[k:k + count] = self.iter, self.time
         self.needs_collider()

@@ -114,25 +114,41 @@ class Table:
             setattr(self, c.name, new)
         self._capacity = capacity
 
-    def append_rows(self, k: int = 1) -> int:
-        """Add ``k`` rows holding the column defaults; return the index of the first."""
+    def _add_rows(self, k: int) -> int:
+        """Add ``k`` rows, their values left as they are; return the index of the first."""
         first = self.count
         if first + k > self._capacity:
             # at least doubled, to a power of two: rows appended in one go (a list of bodies) leave room too
             self._grow(max(2 * self._capacity, 1 << (first + k - 1).bit_length()))
+        self.count += k
+        return first
+
+    def append_rows(self, k: int = 1) -> int:
+        """Add ``k`` rows holding the column defaults; return the index of the first."""
+        first = self._add_rows(k)
         for c in self._allocated_columns():
             getattr(self, c.name)[first:first + k] = c.default
-        self.count += k
+        return first
+
+    def append_copy(self, src: Table, src_rows, k: int = 1) -> int:
+        """Add ``k`` rows holding ``src[src_rows]`` (a row index when ``k`` is 1, else an index array or slice of
+        ``k`` rows), as :meth:`append_rows` and :meth:`copy_rows` would, without writing the defaults first;
+        return the index of the first."""
+        first = self._add_rows(k)
+        self.copy_rows(src, src_rows, first if k == 1 and not isinstance(src_rows, slice | np.ndarray)
+                       else slice(first, first + k))
         return first
 
     def copy_rows(self, src: Table, src_rows, dst_rows) -> None:
         """Copy every column of ``src[src_rows]`` into rows ``dst_rows`` of this table: a row index each, or
         index arrays of one length (n,) int (one NumPy copy a column for all the rows)."""
+        mine, theirs = self.__dict__, src.__dict__   # the allocated columns (:meth:`allocated`), looked up once
         for c in self._columns.values():
-            if src.allocated(c.name):
-                getattr(self, c.name)[dst_rows] = getattr(src, c.name)[src_rows]
-            elif self.allocated(c.name):
-                getattr(self, c.name)[dst_rows] = c.default
+            a = theirs.get(c.name)
+            if a is not None:
+                getattr(self, c.name)[dst_rows] = a[src_rows]
+            elif c.name in mine:
+                mine[c.name][dst_rows] = c.default
 
     def reset_rows(self, rows) -> None:
         """Put the column defaults back into rows ``rows`` (a row index or an index array (n,) int), for reusing

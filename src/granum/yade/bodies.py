@@ -37,12 +37,18 @@ class _Nursery(BodyStore):
     ``utils.sphere()`` and its kin make many small bodies that ``O.bodies.append`` then copies
     into the scene. They all live as rows of this one store -- a few hundred bytes each -- rather
     than in a store of their own (6 kB and 100 us each, which made building a million-sphere
-    scene take 13 GB). The tables are dropped as soon as no detached body is left (all appended
-    or garbage-collected), so their memory does not outlast the building of a scene.
+    scene take 13 GB). When no detached body is left (all appended or garbage-collected), tables
+    longer than :data:`KEEP_ROWS` are dropped, so that the memory of a large scene's building
+    does not outlast it; shorter ones are kept for the next bodies: a script appending its spheres
+    one at a time (``O.bodies.append(sphere(...))`` in a loop) made new tables for each sphere,
+    257.6 us a sphere against YADE's 20.9.
     """
 
     #: rows given their defaults at once when the nursery has none ready (one NumPy call a column for all)
     BLOCK = 256
+    #: the longest tables kept when the last detached body is gone [rows] (each body adds a row to its shape's
+    #: table, which rows released are not taken back from: a few hundred kB at most)
+    KEEP_ROWS = 4096
 
     def __init__(self):
         super().__init__(capacity=64)
@@ -67,10 +73,14 @@ class _Nursery(BodyStore):
     def release(self, *rows: int) -> None:
         """Body rows ``rows`` are free again (their bodies were appended or dropped)."""
         self.live -= len(rows)
-        if self.live == 0:
+        if self.live == 0 and self.longest_table() > self.KEEP_ROWS:
             self.__init__()
         else:
             self.released.extend(rows)
+
+    def longest_table(self) -> int:
+        """The row count of the longest of the nursery's tables."""
+        return max(self.bodies.count, self.clump_members.count, *(t.count for t in self.shapes.values()))
 
 
 _NURSERY = _Nursery()
@@ -172,8 +182,7 @@ class Body:
         src = sh._body
         kind, table, row = src._store.shape_table(src._row)
         dst = self._store.shapes[kind]
-        new_row = dst.append_rows(1)
-        dst.copy_rows(table, row, new_row)
+        new_row = dst.append_copy(table, row)
         b = self._store.bodies
         b.shape_kind[self._row] = int(kind)
         b.shape_row[self._row] = new_row
@@ -825,13 +834,10 @@ class BodyContainer:
             raise ValueError(f"O.bodies.append: this body is already in a simulation (id {b._row}); "
                              f"create a new body instead of appending it twice")
         src, row = b._store, b._row
-        i = scene.add_body_rows()
-        scene.bodies.copy_rows(src.bodies, row, i)
+        i = scene.add_body_rows(1, src.bodies, row)
         kind, table, srow = src.shape_table(row)
         if table is not None:
-            new_row = scene.shapes[kind].append_rows(1)
-            scene.shapes[kind].copy_rows(table, srow, new_row)
-            scene.bodies.shape_row[i] = new_row
+            scene.bodies.shape_row[i] = scene.shapes[kind].append_copy(table, srow)
         mat = b.material
         if mat is None:
             mat = self._omega.default_material()
@@ -851,9 +857,8 @@ class BodyContainer:
         body where one by one took 34."""
         scene, nursery = self._scene, _NURSERY
         rows = np.array([x._row for x in bodies], np.int64)
-        first = scene.add_body_rows(len(rows))
+        first = scene.add_body_rows(len(rows), nursery.bodies, rows)
         new = slice(first, first + len(rows))
-        scene.bodies.copy_rows(nursery.bodies, rows, new)
         by_kind: dict = {}   # a shape table per kind: the positions in ``bodies`` of each kind, in their order
         for j, kind in enumerate(nursery.bodies.shape_kind[rows].tolist()):
             by_kind.setdefault(kind, []).append(j)
@@ -862,9 +867,8 @@ class BodyContainer:
             if table is None:
                 continue
             dst = scene.shapes[ShapeKind(kind)]
-            start = dst.append_rows(len(of_kind))
             of_kind = np.array(of_kind)
-            dst.copy_rows(table, nursery.bodies.shape_row[rows[of_kind]], slice(start, dst.count))
+            start = dst.append_copy(table, nursery.bodies.shape_row[rows[of_kind]], len(of_kind))
             scene.bodies.shape_row[first + of_kind] = np.arange(start, dst.count)
         materials = nursery.bodies.material[rows].tolist()   # -1: none given, the default material
         in_scene: dict = {}
