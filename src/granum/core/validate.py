@@ -9,6 +9,7 @@ A :class:`Rule` tests values item by item: a scalar, or the last ``item_ndim`` a
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from typing import NamedTuple
 
@@ -26,13 +27,23 @@ class Rule(NamedTuple):
     says: str
     holds: Callable[[np.ndarray], np.ndarray]
     item_ndim: int = 0
+    #: optional: whether one item, given as the list of its components (floats), obeys the rule; the same answer
+    #: as ``holds`` for it, in a fraction of its time (NumPy's calls on a 3-vector took 3.6 us, building a sphere
+    #: checked three of them)
+    item_holds: Callable[[list], bool] | None = None
 
     def check(self, value, name: str | Callable[[], str], error: type[Exception] = ValueError) -> None:
         """Raise ``error`` (a ValueError by default) naming ``name`` unless the single item ``value``
         obeys the rule. ``name`` may be a function that makes the name, called only for the error (a setter
         checking values in a loop need not format a name each time)."""
         # a float goes to the rule as it is (0-d arrays and np.all cost several microseconds a value)
-        if not (self.holds(value) if type(value) is float else self.holds(np.asarray(value, dtype=float)).all()):
+        if self.item_holds is not None:
+            ok = self.item_holds([value] if type(value) is float else np.asarray(value, dtype=float).ravel().tolist())
+        elif type(value) is float:
+            ok = self.holds(value)
+        else:
+            ok = self.holds(np.asarray(value, dtype=float)).all()
+        if not ok:
             shown = value if np.ndim(value) == 0 else tuple(np.asarray(value).ravel().tolist())
             raise error(f"{name if isinstance(name, str) else name()} {self.says}, got {shown!r}")
 
@@ -49,6 +60,18 @@ class Rule(NamedTuple):
             shown = item.item() if item.ndim == 0 else tuple(item.ravel().tolist())
             label = name.format(k if ids is None else int(ids[k]))
             raise ValueError(f"{label} {self.says}, got {shown!r}" + (f" ({bad.size} such)" if bad.size > 1 else ""))
+
+
+def _all_finite(components: list) -> bool:
+    return all(map(math.isfinite, components))
+
+
+def _finite_not_negative(components: list) -> bool:
+    return all(math.isfinite(x) and x >= 0 for x in components)
+
+
+def _finite_positive(components: list) -> bool:
+    return all(math.isfinite(x) and x > 0 for x in components)
 
 
 def _finite_items(item_ndim: int) -> Callable[[np.ndarray], np.ndarray]:
@@ -71,20 +94,23 @@ def _positive_volume(h: np.ndarray) -> np.ndarray:
 
 
 #: A time step [s]: finite, not negative (0 is allowed, as in YADE: its periodic-cell tests step with dt = 0).
-TIME_STEP = Rule("must be a finite time step in seconds, not negative", lambda a: np.isfinite(a) & (a >= 0))
+TIME_STEP = Rule("must be a finite time step in seconds, not negative", lambda a: np.isfinite(a) & (a >= 0),
+                 item_holds=_finite_not_negative)
 #: A length that must be positive, such as a sphere radius [m].
-POSITIVE_FINITE = Rule("must be positive and finite", lambda a: np.isfinite(a) & (a > 0))
+POSITIVE_FINITE = Rule("must be positive and finite", lambda a: np.isfinite(a) & (a > 0), item_holds=_finite_positive)
 #: A mass [kg].
-NON_NEGATIVE_FINITE = Rule("must be a finite non-negative number", lambda a: np.isfinite(a) & (a >= 0))
+NON_NEGATIVE_FINITE = Rule("must be a finite non-negative number", lambda a: np.isfinite(a) & (a >= 0),
+                           item_holds=_finite_not_negative)
 #: A 3-vector of finite components (position, velocity, ...).
-FINITE_VECTOR = Rule("must be finite", _finite_items(1), 1)
+FINITE_VECTOR = Rule("must be finite", _finite_items(1), 1, _all_finite)
 #: A 3x3 matrix of finite components (velocity gradient, facet vertices).
-FINITE_MATRIX = Rule("must be finite", _finite_items(2), 2)
+FINITE_MATRIX = Rule("must be finite", _finite_items(2), 2, _all_finite)
 #: An orientation (w, x, y, z) that can be normalised.
 QUATERNION = Rule("must be a finite non-zero quaternion",
                   lambda a: np.isfinite(a).all(axis=-1) & (np.abs(np.where(np.isfinite(a), a, 0)).sum(axis=-1) > 0), 1)
 #: Half-sizes of a box [m]: finite and not negative.
-EXTENTS = Rule("must be finite and non-negative", lambda a: (np.isfinite(a) & (a >= 0)).all(axis=-1), 1)
+EXTENTS = Rule("must be finite and non-negative", lambda a: (np.isfinite(a) & (a >= 0)).all(axis=-1), 1,
+               _finite_not_negative)
 #: The three vertices of a facet (rows) [m]: finite and not collinear.
 TRIANGLE = Rule("must be three finite 3-vectors that are not collinear (the facet needs an area)",
                 lambda v: np.isfinite(v).all(axis=(-2, -1)) & (_triangle_area2(np.where(np.isfinite(v), v, 0)) > 0), 2)
