@@ -87,6 +87,41 @@ def test_withBody_and_lookups_agree_with_brute_force(yade):
             assert y.O.interactions.has(a, b, onlyReal=True) == expected
 
 
+def _rows_with(y, b):
+    """[(id1, id2)] of the live contacts of body b in row order, read from the arrays."""
+    C = y.O._scene.contacts
+    ids = C.con_i[:int(C.ctr[1])]
+    return [(int(r[I_ID1]), int(r[I_ID2])) for r in ids if r[I_FLAGS] & FLAG_ALIVE and b in (r[I_ID1], r[I_ID2])]
+
+
+def test_intrs_and_withBody_in_row_order_through_steps_erasures_and_appends(yade):
+    """b.intrs() and O.interactions.withBody(b) list the body's live contacts in row order, read from the force
+    gather's per-body index while it is current (a view of it: no scan of all rows), else from a scan: through
+    steps that begin, end and compact contacts, an erased interaction and an appended body."""
+    y = yade
+    _pile(y, 3)
+    C_used = 0
+    for step in range(40):
+        y.O.step()
+        if step == 20:
+            i = next(iter(y.O.interactions))
+            y.O.interactions.erase(i.id1, i.id2)   # the index is out of date until the next step
+        if step == 30:
+            y.O.bodies.append(y.sphere((10, 10, 10), 0.5))   # a body the index does not cover yet
+        scene = y.O._scene
+        C = scene.contacts
+        current = not C.ctr[3] and C.csr_start.shape[0] == scene.body_count + 1
+        for b in range(len(y.O.bodies)):
+            want = _rows_with(y, b)
+            assert [(i.id1, i.id2) for i in y.O.bodies[b].intrs()] == want
+            assert [(i.id1, i.id2) for i in y.O.interactions.withBody(b)] == want
+            if current:
+                assert intr_module.body_contact_rows(scene, b).base is C.csr_con
+        C_used += current
+    assert 0 < C_used < 40
+    assert y.O.interactions.withBody(-1) == y.O.interactions.withBody(10 ** 6) == []
+
+
 @pytest.mark.parametrize("n", [1, 2, 7, 100])
 def test_pair_search_against_a_scan(n):
     """find_pair's binary search over the sorted pair list, against a scan of it, for present and absent pairs."""

@@ -28,7 +28,7 @@ from granum.core.scene import BodyStore, Scene
 from granum.core.shapes import ShapeKind, shape_type
 from granum.mathtypes import Matrix3, Quaternion, Vector3, as_quat_wxyz, as_vec3
 from granum.yade._pausing import pauses_the_run
-from granum.yade.interactions import end_law_contact
+from granum.yade.interactions import end_law_contact, interactions_of
 
 
 class _Nursery(BodyStore):
@@ -286,16 +286,8 @@ class Body:
         return self.clumpId < 0
 
     def intrs(self) -> list:
-        """Real interactions of this body."""
-        from granum.yade.interactions import Interaction
-
-        if not self._attached():
-            return []
-        C = self._store.contacts
-        rows = np.nonzero(((C.con_i[:, I_ID1] == self._row) | (C.con_i[:, I_ID2] == self._row))
-                          & (C.con_i[:, I_FLAGS] & FLAG_ALIVE != 0))[0]
-        return [Interaction(self._store, int(C.con_i[c, I_ID1]), int(C.con_i[c, I_ID2])) for c in rows
-                if c < C.ctr[C_CONTACTS]]
+        """Real interactions of this body, in row order."""
+        return interactions_of(self._store, self._row) if self._attached() else []
 
     def _touch(self) -> None:
         """The body's geometry changed: make the collider run again."""

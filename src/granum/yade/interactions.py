@@ -22,6 +22,7 @@ import numpy as np
 
 from granum.core.contacts import (
     C_CONTACTS,
+    C_CSR_DIRTY,
     C_DEAD,
     C_PAIRS,
     FLAG_ALIVE,
@@ -373,6 +374,29 @@ def _pack(id1, id2):
     return (id1 << 32) | (id2 & 0xFFFFFFFF)
 
 
+def body_contact_rows(scene, i: int) -> np.ndarray:
+    """Rows of the live contacts of body ``i`` (none for an id outside the scene), in increasing order: from the
+    per-body index the last force gather built while no contact has begun or ended since (the CSR of
+    :mod:`granum.core.contacts`), in the time of the body's own contacts (a loop of ``len(b.intrs())`` over the
+    bodies, YADE's way to the coordination numbers, had taken time quadratic in their count); else found among
+    all rows."""
+    C = scene.contacts
+    start = C.csr_start
+    if not 0 <= i < scene.body_count:
+        return np.zeros(0, np.int64)
+    if not C.ctr[C_CSR_DIRTY] and start.shape[0] == scene.body_count + 1:
+        return C.csr_con[start[i]:start[i + 1]]
+    ids = C.con_i[:int(C.ctr[C_CONTACTS])]
+    return np.nonzero(((ids[:, I_ID1] == i) | (ids[:, I_ID2] == i)) & (ids[:, I_FLAGS] & FLAG_ALIVE != 0))[0]
+
+
+def interactions_of(scene, i: int) -> list:
+    """The real interactions of body ``i`` (handles), in row order (:func:`body_contact_rows`)."""
+    rows = body_contact_rows(scene, i)
+    ids = scene.contacts.con_i[rows, I_ID1:I_ID2 + 1]
+    return [Interaction._found(scene, a, b, row) for (a, b), row in zip(ids.tolist(), rows.tolist(), strict=True)]
+
+
 class Interaction:
     """A pair of bodies: potential (bounds overlap) or real (``geom`` and ``phys`` exist)."""
 
@@ -644,13 +668,8 @@ class InteractionContainer:
         return list(self)[n]
 
     def withBody(self, id: int) -> list:
-        """Real interactions of body ``id``."""
-        scene = self._scene
-        rows = self._live_rows()
-        ids = scene.contacts.con_i[rows, I_ID1:I_ID2 + 1]
-        mine = np.nonzero((ids[:, 0] == id) | (ids[:, 1] == id))[0]
-        return [Interaction._found(scene, a, b, row)
-                for (a, b), row in zip(ids[mine].tolist(), rows[mine].tolist(), strict=True)]
+        """Real interactions of body ``id``, in row order."""
+        return interactions_of(self._scene, id)
 
     def withBodyAll(self, id: int) -> list:
         """Real and potential interactions of body ``id``."""
