@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from conftest import frict_engines
 
-from granum.core.contacts import F_FN, FLAG_ALIVE, I_FLAGS, I_ID1, I_ID2
+from granum.core.contacts import C_CONTACTS, C_PAIRS, F_FN, FLAG_ALIVE, I_FLAGS, I_ID1, I_ID2, I_PAIR
 from granum.yade import interactions as intr_module
 
 
@@ -120,6 +120,28 @@ def test_intrs_and_withBody_in_row_order_through_steps_erasures_and_appends(yade
         C_used += current
     assert 0 < C_used < 40
     assert y.O.interactions.withBody(-1) == y.O.interactions.withBody(10 ** 6) == []
+
+
+def test_len_counts_the_pairs_of_live_bodies_and_the_unpaired_contacts(yade):
+    """len(O.interactions), YADE's count of potential and real interactions, against the arrays read directly:
+    with every body alive (the pairs' count taken as it is) and after an erased body (its pairs left out)."""
+    y = yade
+    _pile(y, 3)
+    y.O.run(5, True)
+    y.O.interactions.erase(*next((i.id1, i.id2) for i in y.O.interactions))   # a real one made potential again
+
+    def brute():
+        scene = y.O._scene
+        C, alive = scene.contacts, scene.bodies.alive
+        live_pairs = sum(1 for a, b in C.pair_ids[:int(C.ctr[C_PAIRS])] if alive[a] and alive[b])
+        rows = C.con_i[:int(C.ctr[C_CONTACTS])]
+        unpaired = sum(1 for r in rows if r[I_FLAGS] & FLAG_ALIVE and r[I_PAIR] < 0)
+        return live_pairs + unpaired
+
+    assert len(y.O.interactions) == brute() > 0
+    y.O.bodies.erase(13)   # the middle sphere: its pairs stay listed until the collider runs again
+    assert len(y.O.interactions) == brute()
+    assert len(y.O.interactions) < int(y.O._scene.contacts.ctr[C_PAIRS])
 
 
 @pytest.mark.parametrize("n", [1, 2, 7, 100])

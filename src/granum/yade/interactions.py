@@ -617,9 +617,13 @@ class InteractionContainer:
         return out
 
     def __len__(self) -> int:
-        C = self._scene.contacts
-        rows = self._live_rows()
-        return int(self._live_pairs().size) + int(np.count_nonzero(C.con_i[rows, I_PAIR] < 0))
+        """The potential pairs of live bodies and the real interactions without a pair (YADE counts both). With
+        every body alive, the pairs are their count, not looked at (32,768 spheres: 1.9 -> 0.2 ms)."""
+        scene = self._scene
+        C = scene.contacts
+        pairs = int(C.ctr[C_PAIRS]) if scene.bodies.alive[:scene.body_count].all() else self._live_pairs().size
+        con = C.con_i[:int(C.ctr[C_CONTACTS])]
+        return pairs + int(np.count_nonzero((con[:, I_FLAGS] & FLAG_ALIVE != 0) & (con[:, I_PAIR] < 0)))
 
     def arrays(self, *names: str) -> dict[str, np.ndarray]:
         """granum's bulk access (not in YADE): fields of every real interaction as NumPy arrays, one row per
