@@ -104,7 +104,8 @@ class ForceContainer:
     def _get(self, column: str, i: int):
         a = self._omega._scene.bodies.stored(column)  # permanent forces: a lazy column, maybe not used yet
         i = self._id(i)
-        return Vector3(*a[i]) if len(a) else Vector3(0.0, 0.0, 0.0)
+        # a copy of the row (float64 (3,): no conversion to check): 2.8 -> 1.1 us a call
+        return Vector3._new(a[i].copy()) if len(a) else Vector3(0.0, 0.0, 0.0)
 
     def f(self, id: int, sync: bool = False):
         """Force on body ``id`` in the last step [N]."""
