@@ -119,7 +119,12 @@ def test_intrs_and_withBody_in_row_order_through_steps_erasures_and_appends(yade
                 assert intr_module.body_contact_rows(scene, b).base is C.csr_con
         C_used += current
     assert 0 < C_used < 40
-    assert y.O.interactions.withBody(-1) == y.O.interactions.withBody(10 ** 6) == []
+    assert y.O.interactions.withBody(-1) == y.O.interactions.withBody(10 ** 6) == []   # YADE 2023.02a crashes
+    pairs = [[(i.id1, i.id2) for i in y.O.interactions.withBody(k)] for k in (True, 1)]
+    assert pairs[0] == pairs[1] != []   # as YADE: True is body 1
+    for bad in (1.0, "1"):   # YADE: ArgumentError, a TypeError
+        with pytest.raises(TypeError):
+            y.O.interactions.withBody(bad)
 
 
 def test_len_counts_the_pairs_of_live_bodies_and_the_unpaired_contacts(yade):

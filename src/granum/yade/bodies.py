@@ -47,7 +47,7 @@ class _Nursery(BodyStore):
     #: rows given their defaults at once when the nursery has none ready (one NumPy call a column for all)
     BLOCK = 256
     #: the longest tables kept when the last detached body is gone [rows] (each body adds a row to its shape's
-    #: table, which rows released are not taken back from: a few hundred kB at most)
+    #: table, which rows released are not taken back from: 2 MB at most)
     KEEP_ROWS = 4096
 
     def __init__(self):
