@@ -19,6 +19,7 @@ from granum.mathtypes import (
     Vector3,
     Vector3i,
     Vector6,
+    as_array,
     as_mat3,
     as_quat_wxyz,
     as_vec3,
@@ -448,6 +449,10 @@ def test_converters():
     out = as_vec3(v)
     out[0] = 9
     assert v[0] == 1  # a new array
+    # plain tuples and lists of Python numbers take a direct path: the same bits as the general conversion
+    for src in [(0.1, -0.0, 1e308), [2 ** 62 + 1, -7, 3.5], (float("nan"), float("inf"), -float("inf")),
+                (True, 0, 1), [1, 2.5, 2 ** 53 + 1]]:
+        assert as_vec3(src).tobytes() == np.array(as_array(Vector3, src), dtype=np.float64).tobytes(), src
     with pytest.raises(ValueError, match="expected a 3-vector, got 2 components"):
         as_vec3((1, 2))
     with pytest.raises(ValueError, match="expected a 3-vector, got 4 components"):
