@@ -79,6 +79,9 @@ def as_array(cls, obj) -> np.ndarray:
     return a.astype(cls._dtype, copy=False)
 
 
+_PLAIN_NUMBERS = (float, int)   # components as_vec3 converts directly (as_array would give the same values)
+
+
 def as_vec3(obj) -> np.ndarray:
     """New float64 array (3,) from a Vector3/Vector3i or a tuple, list or array of 3 numbers."""
     kind = type(obj)
@@ -87,9 +90,6 @@ def as_vec3(obj) -> np.ndarray:
     if (kind is tuple or kind is list) and len(obj) == 3 and all([type(x) in _PLAIN_NUMBERS for x in obj]):
         return np.array(obj, dtype=np.float64)
     return np.array(as_array(Vector3, obj), copy=True)
-
-
-_PLAIN_NUMBERS = (float, int)   # components as_vec3 converts directly (as_array would give the same values)
 
 
 def as_mat3(obj) -> np.ndarray:
