@@ -24,6 +24,8 @@
   the stages' entry points (:class:`granum.kernels.steploop.PlainLoop`). Same
   results, bit for bit; slower first runs, and a few microseconds more per step.
   Its code is cached apart.
+* LLVM's loop vectorizer may test up to :data:`VECTORIZE_MEMORY_CHECKS` pairs of arrays for overlap before a loop
+  (:func:`allow_vectorize_checks`).
 """
 
 from __future__ import annotations
@@ -46,6 +48,30 @@ from numba import njit, prange
 from granum import _compile
 
 _PKG = pathlib.Path(__file__).resolve().parent
+
+#: The run-time overlap tests of arrays that LLVM's loop vectorizer may put before a loop it finds worth
+#: vectorizing (LLVM's ``-vectorize-memory-check-threshold``, 128 by default). The loop of the batched contact
+#: update (:mod:`granum.kernels.batch`) reads and writes 45 columns, which Numba cannot declare disjoint: it needs
+#: between 400 and 800 tests (measured), without which it stays scalar (30 instead of 14 ns a contact).
+VECTORIZE_MEMORY_CHECKS = 1024
+
+
+def allow_vectorize_checks() -> None:
+    """Raise LLVM's limit of run-time overlap tests to :data:`VECTORIZE_MEMORY_CHECKS` in this process (the child
+    that compiles a first run's stages too). It is a limit of the vectorizer's cost model: LLVM vectorizes a loop
+    only where it estimates the loop faster with the tests than without vectorizing, and a vector loop rounds as the
+    scalar one (no fast-math reassociation). Functions of other packages compiled in the process see it too. An LLVM
+    that does not know the option warns, and the loops stay scalar: the same results, slower."""
+    import llvmlite.binding as llvm
+
+    try:
+        llvm.set_option("granum", f"-vectorize-memory-check-threshold={VECTORIZE_MEMORY_CHECKS}")
+    except Exception as error:  # an llvmlite without the option or the call: scalar loops, same bits
+        warnings.warn(f"granum: LLVM's vectorizer limit could not be raised ({error}); batched loops stay scalar",
+                      RuntimeWarning, stacklevel=2)
+
+
+allow_vectorize_checks()
 
 
 #: Packages whose code can end up inside compiled kernels (the YADE layer, the engines

@@ -28,11 +28,12 @@ potential pairs are never real, so granum keeps them apart:
     Outcome of this step's detection for the pair (``HIT_*`` of the interaction loop), set for the pairs
     found touching and zeroed again as they become contacts: zero outside the interaction loop.
 ``con_i``, ``con_f``  (K, NI_CORE or NI) int32 and (K, NF) float64
-    The pool of real contacts, one row per contact (all columns of a contact are
-    adjacent in memory, which suits the per-contact loop). Column offsets are the
+    The pool of real contacts, one row per contact. Column offsets are the
     ``I_*`` and ``F_*`` constants below; laws may declare extra history columns,
     appended after the core ones (see :func:`contact_width`); the periodic image columns
-    of ``con_i`` exist in periodic scenes only.
+    of ``con_i`` exist in periodic scenes only. ``con_i`` is stored row after row (C order); ``con_f`` column
+    after column (F order, :func:`contact_floats`): a column over a run of contacts is contiguous, so a law's
+    loop over a run of contacts vectorizes (:mod:`granum.kernels.batch`).
 ``csr_start``, ``csr_con``  (N+1,) and (2K,) int32
     For each body, the indices of its live contacts in increasing order. Forces are
     gathered per body through this index, so the summation order is fixed and
@@ -207,9 +208,15 @@ CONTACTS = RecordSpec("ContactArrays", [
     ("pair_ids", "i4", 2), ("pair_cell", "i4", 2), ("pair_con", "i4", 1), ("pair_gap", "f4", 1),
     ("pair_ref", "i2", 2), ("pair_hit", "u1", 1),
     ("con_i", "i4", 2),
-    ("con_f", "f8", 2), ("csr_start", "i4", 1), ("csr_con", "i4", 1), ("ctr", "i8", 1), ("ended", "f8", 1),
+    ("con_f", "f8", 2, "F"), ("csr_start", "i4", 1), ("csr_con", "i4", 1), ("ctr", "i8", 1), ("ended", "f8", 1),
     ("scratch", "f8", 1)], transient=("scratch",))
 ContactArrays = CONTACTS.tuple
+
+
+def contact_floats(rows: int, width: int) -> np.ndarray:
+    """A zeroed ``con_f`` of ``rows`` contacts and ``width`` columns, (rows, width) float64 in F order (compiled
+    code allocates it with the same expression)."""
+    return np.zeros((width, rows)).T
 
 
 def new_contact_arrays(n_bodies: int, pair_capacity: int = 64, contact_capacity: int = 64,
@@ -227,7 +234,7 @@ def new_contact_arrays(n_bodies: int, pair_capacity: int = 64, contact_capacity:
         pair_ref=np.zeros((pair_capacity, 3), np.int16),
         pair_hit=np.zeros(pair_capacity, np.uint8),
         con_i=con_i,
-        con_f=np.zeros((contact_capacity, NF_CORE), np.float64),
+        con_f=contact_floats(contact_capacity, NF_CORE),
         csr_start=np.zeros(n_bodies + 1, np.int32),
         csr_con=np.zeros(2 * contact_capacity, np.int32),
         ctr=ctr,

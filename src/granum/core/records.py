@@ -127,7 +127,8 @@ class RecordSpec:
 
     Args:
         name: name of the record kind (also of the Python named tuple).
-        fields: ``(field name, dtype, ndim)`` for every array.
+        fields: ``(field name, dtype, ndim)`` for every array, or ``(field name, dtype, ndim, layout)`` with the
+            array's memory order, ``"C"`` (the default: row after row) or ``"F"`` (column after column).
         transient: fields that hold no state (work areas whose contents a step does not read from the step
             before): checkpoints leave them out, and a record loaded from one gets them as a new record has
             them. The named tuple's class lists them in ``_transient``.
@@ -135,10 +136,12 @@ class RecordSpec:
 
     def __init__(self, name: str, fields: list[tuple[str, str, int]], transient: tuple[str, ...] = ()):
         self.names = [f[0] for f in fields]
+        #: per field, the memory order its arrays must have (a record of another order does not type)
+        self.layouts = {f[0]: f[3] if len(f) > 3 else "C" for f in fields}
         self.tuple = namedtuple(name, self.names)
         self.tuple._transient = frozenset(transient)
-        self.numba_type = RecordType([(n, types.Array(numpy_support.from_dtype(np.dtype(d)), nd, "C"))
-                                      for n, d, nd in fields])
+        self.numba_type = RecordType([(f[0], types.Array(numpy_support.from_dtype(np.dtype(f[1])), f[2],
+                                                         self.layouts[f[0]])) for f in fields])
         args = ", ".join(self.names)
         src = [
             f'"""Generated record conversions for {name}; do not edit."""',

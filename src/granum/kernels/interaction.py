@@ -72,6 +72,8 @@ from granum.core.contacts import (
     STATUS_NO_PHYS,
 )
 from granum.core.records import borrow, raw
+from granum.kernels import batch
+from granum.kernels.batch import AREA_WORDS, MASK, MIN_BATCH, STRIDE, never_erase, scene_batchable
 from granum.kernels.bounds import body_displacement, body_reach
 from granum.kernels.copy import copy_rows
 from granum.kernels.dispatch import functors, geom_call, law_call, phys_call
@@ -79,7 +81,7 @@ from granum.kernels.prefetch import prefetch_row
 from granum.kernels.schedule import block_queue, next_block, queue_workers, thread_count
 from granum.kernels.scratch import area, rows_of, take_f8, take_i4, take_i8, words_i4
 from granum.kernels.sorting import argsort_keys
-from granum.kernels.static import static_value
+from granum.kernels.static import Static, static_switch, static_value
 from granum.physics.scgeom import contact_shift, scgeom_incident_vel
 from granum.physics.vec import add, cross, inv3, load3, matvec, scale, sub
 
@@ -349,7 +351,7 @@ def grow_contacts(C, need):
     contacts appearing a few at a time are copied O(1) times each, and to ``need`` when more are asked)."""
     cap = max(need, C.con_i.shape[0] + C.con_i.shape[0] // 2, 64)
     con_i = np.zeros((cap, C.con_i.shape[1]), np.int32)
-    con_f = np.zeros((cap, C.con_f.shape[1]), np.float64)
+    con_f = np.zeros((C.con_f.shape[1], cap)).T  # F order, as core.contacts.contact_floats
     n = C.ctr[C_CONTACTS]
     copy_rows(con_i, C.con_i, n)
     copy_rows(con_f, C.con_f, n)
@@ -363,7 +365,7 @@ def grow_contacts(C, need):
 def widen_contacts(C, width):
     """Give ``con_f`` at least ``width`` columns (new ones zero: history starts empty), and ``ended`` as many."""
     if C.con_f.shape[1] < width:
-        con_f = np.zeros((C.con_f.shape[0], width), np.float64)
+        con_f = np.zeros((width, C.con_f.shape[0])).T  # F order, as core.contacts.contact_floats
         copy_rows(con_f, C.con_f, C.con_f.shape[0])
         C.con_f = con_f
         C.ctr[C_REPLACED] += 1
@@ -489,6 +491,22 @@ class InteractionParams(NamedTuple):
     #: per Law2 functor code, the running totals its contacts keep after ending (first ``con_f`` column, count;
     #: count 0: none; :func:`granum.core.contacts.register_totals`), (law functors, 2) int64
     law_totals: np.ndarray
+    #: ``("batched", bool)``: runs of sphere-sphere Cundall-Strack contacts are updated in batches
+    #: (:mod:`granum.kernels.batch`); :func:`batched` chooses it
+    batched: Static
+
+
+#: Bodies from which a scene's sphere-sphere Cundall-Strack contacts are batched (:mod:`granum.kernels.batch`). The
+#: batched loops add to a first run's compiling; smaller scenes, which gain little, compile none (as Newton's
+#: vectorized steps, :data:`granum.kernels.newton.VECTORIZED_BODIES`).
+BATCHED_BODIES = 1024
+
+
+def batched(body_count: int, geom_tab: tuple, law_tab: tuple) -> Static:
+    """:attr:`InteractionParams.batched` for a scene of ``body_count`` bodies and the functor tables ``geom_tab``,
+    ``law_tab``: batches need both functors of :mod:`granum.kernels.batch` in them."""
+    both = batch.GEOM_CODE in geom_tab[0].value[2] and batch.LAW_CODE in law_tab[0].value[2]
+    return Static(("batched", both and body_count >= BATCHED_BODIES))
 
 
 @jit
@@ -562,23 +580,57 @@ def update_contact(c, S, C, geom_tab, phys_tab, law_tab, died):
         died[c // BLOCK] = 1
 
 
+def update_range(batched, lo, hi, S, C, geom_tab, phys_tab, law_tab, died, g):
+    """Update the contacts lo..hi-1 (:func:`update_contact`); ``batched``, a static ``("batched", bool)``
+    (:func:`batched`): with it, runs of batchable contacts go through :mod:`granum.kernels.batch` (``g``: the
+    thread's work area, (GATHERED, STRIDE) float64), without it that code is not compiled. Compiled code only."""
+    raise TypeError("update_range is called from compiled kernels only")
+
+
 @jit
-def update_block(b, S, C, geom_tab, phys_tab, law_tab, died, law_totals, totals):
-    """Contacts of block ``b``, then those of them that ended unlinked (:func:`unlink_block`); the arrays are
-    borrowed (no reference counting per contact: see ARCHITECTURE.md, "Kernel records")."""
-    geom_tab, phys_tab, law_tab, died = borrow((geom_tab, phys_tab, law_tab, died))
-    for c in range(b * BLOCK, min(C.ctr[C_CONTACTS], (b + 1) * BLOCK)):
+def update_each(lo, hi, S, C, geom_tab, phys_tab, law_tab, died, g):
+    """:func:`update_range` without batches: every contact through the dispatch."""
+    for c in range(lo, hi):
         update_contact(c, S, C, geom_tab, phys_tab, law_tab, died)
+
+
+@jit
+def update_batched(lo, hi, S, C, geom_tab, phys_tab, law_tab, died, g):
+    """:func:`update_range` with batches: the block's batchable contacts together
+    (:func:`~granum.kernels.batch.update_block`) when there are enough of them, then the others through the
+    dispatch (the same results, to the bit: a contact's update reads and writes only its own row and its bodies'
+    state)."""
+    wanted = scene_batchable(S, geom_tab, law_tab)
+    batched = wanted >= 0 and batch.gather_bodies(lo, hi, S, C, g, wanted) >= MIN_BATCH
+    if batched:
+        batch.update_block(lo, hi, S, C, g, never_erase(law_tab), died)
+    for c in range(lo, hi):  # the only call site: the inlined functors are compiled once
+        if not (batched and g[MASK, c - lo] != 0.0):
+            update_contact(c, S, C, geom_tab, phys_tab, law_tab, died)
+
+
+static_switch(update_range, "batched", update_batched, update_each)
+
+
+@jit
+def update_block(b, S, C, geom_tab, phys_tab, law_tab, died, law_totals, totals, batched, area):
+    """Contacts of block ``b`` (:func:`update_range`; ``area``: the thread's work area, AREA_WORDS float64), then
+    those of them that ended unlinked (:func:`unlink_block`); the arrays are borrowed (no reference counting per
+    contact: see ARCHITECTURE.md, "Kernel records")."""
+    geom_tab, phys_tab, law_tab, died = borrow((geom_tab, phys_tab, law_tab, died))
+    update_range(batched, b * BLOCK, min(C.ctr[C_CONTACTS], (b + 1) * BLOCK), S, C, geom_tab, phys_tab, law_tab, died,
+                 rows_of(area, STRIDE))
     if died[b] != 0:
         unlink_block(b, C, died, law_totals, totals)
 
 
-def _update(S, C, geom_tab, phys_tab, law_tab, died, law_totals, totals):
+def _update(S, C, geom_tab, phys_tab, law_tab, died, law_totals, totals, batched, areas):
+    """``areas`` (workers, AREA_WORDS) float64: a work area per worker (a row per thread at least)."""
     queue = block_queue(died.shape[0])
     for w in prange(queue_workers(queue)):
         b = next_block(queue, w, -1)
         while b >= 0:
-            update_block(b, S, C, geom_tab, phys_tab, law_tab, died, law_totals, totals)
+            update_block(b, S, C, geom_tab, phys_tab, law_tab, died, law_totals, totals, batched, areas[w])
             b = next_block(queue, w, b)
 
 
@@ -660,7 +712,7 @@ def compact(C):
                 k += 1
         perm = argsort_keys(keys)
         con_i = np.empty((live, C.con_i.shape[1]), np.int32)
-        con_f = np.empty((live, C.con_f.shape[1]))
+        con_f = np.empty((C.con_f.shape[1], live)).T  # F order, as core.contacts.contact_floats
         for t in range(live):
             c = rows[perm[t]]
             for j in range(con_i.shape[1]):
@@ -903,17 +955,19 @@ def interaction_stage(S, C, P):
     n = C.ctr[C_CONTACTS]
     contact_blocks = (n + BLOCK - 1) // BLOCK
     nended = C.ended.shape[0]
-    w = area(C, words_i4(contact_blocks) + contact_blocks * nended)
+    w = area(C, words_i4(contact_blocks) + contact_blocks * nended + workers * AREA_WORDS)
     V = raw(C)  # the storage may have grown
     died, at = take_i4(w, 0, contact_blocks)
     died[:] = 0
     totals, at = take_f8(w, at, contact_blocks * nended)
     totals = rows_of(totals, nended)
     totals[:] = 0.0
+    areas, at = take_f8(w, at, workers * AREA_WORDS)
+    areas = rows_of(areas, AREA_WORDS)
     if n < PARALLEL_THRESHOLD_CONTACTS:
-        update(R, V, geom_tab, phys_tab, law_tab, died, P.law_totals, totals)
+        update(R, V, geom_tab, phys_tab, law_tab, died, P.law_totals, totals, P.batched, areas)
     else:
-        update_par(R, V, geom_tab, phys_tab, law_tab, died, P.law_totals, totals)
+        update_par(R, V, geom_tab, phys_tab, law_tab, died, P.law_totals, totals, P.batched, areas)
     count_dead(V, died, totals)
     if V.ctr[C_CSR_DIRTY]:
         if 4 * V.ctr[C_DEAD] > V.ctr[C_CONTACTS]:
