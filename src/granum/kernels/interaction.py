@@ -77,7 +77,7 @@ from granum.kernels.batch import AREA_WORDS, MASK, MIN_BATCH, STRIDE, never_eras
 from granum.kernels.bounds import body_displacement, body_reach
 from granum.kernels.copy import copy_rows
 from granum.kernels.dispatch import functors, geom_call, law_call, phys_call
-from granum.kernels.prefetch import prefetch_row
+from granum.kernels.prefetch import prefetch_item
 from granum.kernels.schedule import block_queue, next_block, queue_workers, thread_count
 from granum.kernels.scratch import area, rows_of, take_f8, take_i4, take_i8, words_i4
 from granum.kernels.sorting import argsort_keys
@@ -89,6 +89,10 @@ from granum.physics.vec import add, cross, inv3, load3, matvec, scale, sub
 GATHER_AHEAD = 4
 #: contact pools from this size [bytes of con_f] on are prefetched by the gather (larger than the caches)
 GATHER_PREFETCH_BYTES = 16 << 20
+#: the ``con_f`` columns the force gather reads of a sphere contact (radial lever arms), a line each (con_f is
+#: stored column after column)
+GATHER_COLUMNS = (F_NORMAL, F_NORMAL + 1, F_NORMAL + 2, F_PEN, F_R1, F_R2,
+                  F_FN, F_FN + 1, F_FN + 2, F_FS, F_FS + 1, F_FS + 2)
 
 FLAG_PHYS_SWAP = 8   # the physics functor is declared for (material 2, material 1)
 HIT_TOUCH = 1        # pair_hit: the pair touches and becomes a contact
@@ -843,10 +847,13 @@ def gather_body(i, S, C, laws):
 
 @jit
 def prefetch_contacts(i, C):
-    """Ask for the ``con_f`` rows of body ``i``'s contacts (see :mod:`granum.kernels.prefetch`; their
-    ``con_i`` rows, one line each, gained nothing measurable)."""
+    """Ask for the lines of the ``con_f`` columns the gather reads (:data:`GATHER_COLUMNS`) of body ``i``'s
+    contacts (see :mod:`granum.kernels.prefetch`; their ``con_i`` rows, one line each, gained nothing
+    measurable)."""
     for k in range(C.csr_start[i], C.csr_start[i + 1]):
-        prefetch_row(C.con_f, C.csr_con[k])
+        c = C.csr_con[k]
+        for col in GATHER_COLUMNS:
+            prefetch_item(C.con_f, c, col)
 
 
 @jit
