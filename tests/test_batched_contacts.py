@@ -44,6 +44,12 @@ def _run(y, batched: bool, never_erase: bool, monkeypatch) -> dict:
     n = int(C.ctr[C_CONTACTS])
     out = {name: np.array(getattr(scene.bodies, name)) for name in ("pos", "vel", "ang_vel", "force", "torque")}
     out["con_f"], out["con_i"] = np.array(C.con_f[:n]), np.array(C.con_i[:n])
+    # the Python views read the pool in either memory order (F order when batched)
+    assert C.con_f.flags.f_contiguous != C.con_f.flags.c_contiguous and C.con_f.flags.f_contiguous == batched
+    walked = {(i.id1, i.id2): (tuple(i.phys.normalForce), i.geom.penetrationDepth) for i in y.O.interactions}
+    live = out["con_i"][:, I_FLAGS] & FLAG_ALIVE != 0
+    assert walked == {(a, b): (tuple(f[F_FN:F_FN + 3]), f[F_PEN])
+                      for (a, b), f in zip(out["con_i"][live][:, :2].tolist(), out["con_f"][live], strict=True)}
     return out
 
 

@@ -384,8 +384,8 @@ class _Decoder:
                     if len(a) > len(ref):
                         raise self.fail(f"{name}.ctr holds {len(a)} counters; this granum has {len(ref)}")
                     a = np.concatenate([a, np.zeros(len(ref) - len(a), a.dtype)])   # earlier versions had fewer
-                if a.ndim == 2 and ref.flags.f_contiguous and not ref.flags.c_contiguous:
-                    a = np.asfortranarray(a)  # stored column after column, as the record's type says (con_f)
+                if f == "con_f":
+                    a = np.ascontiguousarray(a)  # C order: the engine lays the pool out before a run (laid_out)
                 out[f] = a
             return type(fresh)(**out)
         v = self.value(node)

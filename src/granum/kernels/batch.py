@@ -9,7 +9,7 @@ a time instead, in two passes:
    centre, branch vector, velocities) into columns of a work area ``g``, with a mask of them (scalar: the rows of
    the bodies are scattered);
 2. :func:`update_block` computes the geometry and the law of every contact of the block from those columns and
-   the contact columns (``con_f`` is stored column after column, :func:`granum.core.contacts.contact_floats`), a
+   the contact columns (a ``con_f`` of the core columns is stored column after column), a
    loop without calls or branches over contiguous columns, which LLVM vectorizes (8 contacts per AVX-512
    instruction), and stores the results of the masked contacts only. The block's other contacts (a sphere on a
    facet, a new contact) then go through the dispatch.
@@ -86,12 +86,15 @@ def batchable(c, C, wanted):
 
 
 @jit
-def scene_batchable(S, geom_tab, law_tab):
+def scene_batchable(S, C, geom_tab, law_tab):
     """The flags a batchable contact has in this scene and step (:func:`batchable`), or -1 when none is: the
-    scene periodic or tracking energy, the geometry without ``avoidGranularRatcheting``. ``geom_tab``,
+    scene periodic or tracking energy, the geometry without ``avoidGranularRatcheting``, the pool ``C.con_f`` in
+    C order (:func:`granum.core.contacts.contact_floats`). ``geom_tab``,
     ``law_tab``: the functor tables, which hold both functors (:func:`granum.kernels.interaction.batched`)."""
     if S.iscal[SI_PERIODIC] != 0 or S.iscal[SI_TRACK_ENERGY] != 0 or geom_tab[1][GEOM_CODE, AVOID_RATCHETING] == 0.0:
         return -1
+    if C.con_f.strides[0] != C.con_f.itemsize:  # a pool in C order (a law's history): its columns are not
+        return -1                               # contiguous, the loop would not vectorize
     wanted = FLAG_ALIVE | FLAG_RATCHET
     if law_tab[1][LAW_CODE, SPHERICAL_BODIES] != 0.0:
         wanted |= FLAG_RADIAL_ARMS

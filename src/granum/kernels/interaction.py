@@ -22,6 +22,7 @@ import math
 from typing import NamedTuple
 
 import numpy as np
+from numba import types
 
 from granum._jit import BLOCK, PARALLEL_THRESHOLD, PARALLEL_THRESHOLD_CONTACTS, jit, kernel, overload, prange
 from granum.core.arrays import (
@@ -77,11 +78,11 @@ from granum.kernels.batch import AREA_WORDS, MASK, MIN_BATCH, STRIDE, never_eras
 from granum.kernels.bounds import body_displacement, body_reach
 from granum.kernels.copy import copy_rows
 from granum.kernels.dispatch import functors, geom_call, law_call, phys_call
-from granum.kernels.prefetch import prefetch_item
+from granum.kernels.prefetch import prefetch_item, prefetch_row
 from granum.kernels.schedule import block_queue, next_block, queue_workers, thread_count
 from granum.kernels.scratch import area, rows_of, take_f8, take_i4, take_i8, words_i4
 from granum.kernels.sorting import argsort_keys
-from granum.kernels.static import Static, static_switch, static_value
+from granum.kernels.static import Static, static_value
 from granum.physics.scgeom import contact_shift, scgeom_incident_vel
 from granum.physics.vec import add, cross, inv3, load3, matvec, scale, sub
 
@@ -89,8 +90,8 @@ from granum.physics.vec import add, cross, inv3, load3, matvec, scale, sub
 GATHER_AHEAD = 4
 #: contact pools from this size [bytes of con_f] on are prefetched by the gather (larger than the caches)
 GATHER_PREFETCH_BYTES = 16 << 20
-#: the ``con_f`` columns the force gather reads of a sphere contact (radial lever arms), a line each (con_f is
-#: stored column after column)
+#: the ``con_f`` columns the force gather reads of a sphere contact (radial lever arms), a line each when con_f
+#: is stored column after column
 GATHER_COLUMNS = (F_NORMAL, F_NORMAL + 1, F_NORMAL + 2, F_PEN, F_R1, F_R2,
                   F_FN, F_FN + 1, F_FN + 2, F_FS, F_FS + 1, F_FS + 2)
 
@@ -349,13 +350,26 @@ def quick_bound(S, extent, turn):
     return (extent + max(0.0, turn - S.scal[S_TURN_ALLOWANCE])) * (1.0 + 1e-12)  # above the rounding of the sum
 
 
+def contact_floats_like(con_f, rows, width):
+    """A zeroed pool of ``rows`` contacts and ``width`` columns in the memory order of ``con_f`` (the record's
+    type holds it: see :func:`granum.core.contacts.contact_floats`). Compiled code only."""
+    raise TypeError("contact_floats_like is called from compiled kernels only")
+
+
+@overload(contact_floats_like, inline="always")
+def _contact_floats_like(con_f, rows, width):
+    if isinstance(con_f, types.Array) and con_f.layout == "F":
+        return lambda con_f, rows, width: np.zeros((width, rows)).T
+    return lambda con_f, rows, width: np.zeros((rows, width))
+
+
 @jit
 def grow_contacts(C, need):
     """Make room for at least ``need`` contacts (rows copied; the capacity grows by half at least, so that
     contacts appearing a few at a time are copied O(1) times each, and to ``need`` when more are asked)."""
     cap = max(need, C.con_i.shape[0] + C.con_i.shape[0] // 2, 64)
     con_i = np.zeros((cap, C.con_i.shape[1]), np.int32)
-    con_f = np.zeros((C.con_f.shape[1], cap)).T  # F order, as core.contacts.contact_floats
+    con_f = contact_floats_like(C.con_f, cap, C.con_f.shape[1])
     n = C.ctr[C_CONTACTS]
     copy_rows(con_i, C.con_i, n)
     copy_rows(con_f, C.con_f, n)
@@ -367,9 +381,11 @@ def grow_contacts(C, need):
 
 @jit
 def widen_contacts(C, width):
-    """Give ``con_f`` at least ``width`` columns (new ones zero: history starts empty), and ``ended`` as many."""
+    """Give ``con_f`` at least ``width`` columns (new ones zero: history starts empty), and ``ended`` as many
+    (the engine lays the pool out before a run, :func:`granum.core.contacts.laid_out`: this one acts when a
+    pool came narrower meanwhile, and keeps its memory order)."""
     if C.con_f.shape[1] < width:
-        con_f = np.zeros((width, C.con_f.shape[0])).T  # F order, as core.contacts.contact_floats
+        con_f = contact_floats_like(C.con_f, C.con_f.shape[0], width)
         copy_rows(con_f, C.con_f, C.con_f.shape[0])
         C.con_f = con_f
         C.ctr[C_REPLACED] += 1
@@ -591,20 +607,20 @@ def update_range(batched, lo, hi, S, C, geom_tab, phys_tab, law_tab, died, g):
     raise TypeError("update_range is called from compiled kernels only")
 
 
-@jit
+@jit(inline="always")  # the loop in update_block, where its arrays are borrowed (called: 6-8 % slower, CPM lattice)
 def update_each(lo, hi, S, C, geom_tab, phys_tab, law_tab, died, g):
     """:func:`update_range` without batches: every contact through the dispatch."""
     for c in range(lo, hi):
         update_contact(c, S, C, geom_tab, phys_tab, law_tab, died)
 
 
-@jit
+@jit(inline="always")  # as update_each
 def update_batched(lo, hi, S, C, geom_tab, phys_tab, law_tab, died, g):
     """:func:`update_range` with batches: the block's batchable contacts together
     (:func:`~granum.kernels.batch.update_block`) when there are enough of them, then the others through the
     dispatch (the same results, to the bit: a contact's update reads and writes only its own row and its bodies'
     state)."""
-    wanted = scene_batchable(S, geom_tab, law_tab)
+    wanted = scene_batchable(S, C, geom_tab, law_tab)
     batched = wanted >= 0 and batch.gather_bodies(lo, hi, S, C, g, wanted) >= MIN_BATCH
     if batched:
         batch.update_block(lo, hi, S, C, g, never_erase(law_tab), died)
@@ -613,7 +629,19 @@ def update_batched(lo, hi, S, C, geom_tab, phys_tab, law_tab, died, g):
             update_contact(c, S, C, geom_tab, phys_tab, law_tab, died)
 
 
-static_switch(update_range, "batched", update_batched, update_each)
+@overload(update_range, inline="always")  # the chosen loop in update_block, where its arrays are borrowed
+def _update_range(batched, lo, hi, S, C, geom_tab, phys_tab, law_tab, died, g):
+    value = static_value(batched, "batched")
+    if value is None:
+        return None
+    if value[1]:
+        def with_batches(batched, lo, hi, S, C, geom_tab, phys_tab, law_tab, died, g):
+            update_batched(lo, hi, S, C, geom_tab, phys_tab, law_tab, died, g)
+        return with_batches
+
+    def each(batched, lo, hi, S, C, geom_tab, phys_tab, law_tab, died, g):
+        update_each(lo, hi, S, C, geom_tab, phys_tab, law_tab, died, g)
+    return each
 
 
 @jit
@@ -716,7 +744,7 @@ def compact(C):
                 k += 1
         perm = argsort_keys(keys)
         con_i = np.empty((live, C.con_i.shape[1]), np.int32)
-        con_f = np.empty((C.con_f.shape[1], live)).T  # F order, as core.contacts.contact_floats
+        con_f = contact_floats_like(C.con_f, live, C.con_f.shape[1])
         for t in range(live):
             c = rows[perm[t]]
             for j in range(con_i.shape[1]):
@@ -847,13 +875,26 @@ def gather_body(i, S, C, laws):
 
 @jit
 def prefetch_contacts(i, C):
-    """Ask for the lines of the ``con_f`` columns the gather reads (:data:`GATHER_COLUMNS`) of body ``i``'s
-    contacts (see :mod:`granum.kernels.prefetch`; their ``con_i`` rows, one line each, gained nothing
-    measurable)."""
+    """Ask for the lines of body ``i``'s contacts that the gather reads (:func:`prefetch_contact`; see
+    :mod:`granum.kernels.prefetch`; their ``con_i`` rows, one line each, gained nothing measurable)."""
     for k in range(C.csr_start[i], C.csr_start[i + 1]):
-        c = C.csr_con[k]
-        for col in GATHER_COLUMNS:
-            prefetch_item(C.con_f, c, col)
+        prefetch_contact(C.con_f, C.csr_con[k])
+
+
+def prefetch_contact(con_f, c):
+    """Prefetch what the gather reads of contact ``c``: its row's lines (C order), or the lines of the columns
+    :data:`GATHER_COLUMNS` (F order, a line each). Compiled code only."""
+    raise TypeError("prefetch_contact is called from compiled kernels only")
+
+
+@overload(prefetch_contact, inline="always")
+def _prefetch_contact(con_f, c):
+    if isinstance(con_f, types.Array) and con_f.layout == "F":
+        def columns(con_f, c):
+            for col in GATHER_COLUMNS:
+                prefetch_item(con_f, c, col)
+        return columns
+    return lambda con_f, c: prefetch_row(con_f, c)
 
 
 @jit

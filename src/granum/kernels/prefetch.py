@@ -15,6 +15,11 @@ from numba import types
 from numba.core import cgutils
 from numba.extending import intrinsic
 
+from granum._jit import jit
+
+#: bytes of a cache line on the machines granum runs on (x86-64, arm64)
+CACHE_LINE = 64
+
 
 @intrinsic
 def prefetch_item(typingctx, a, row, col):
@@ -41,3 +46,12 @@ def prefetch_item(typingctx, a, row, col):
         return context.get_dummy_value()
 
     return types.void(a, row, col), codegen
+
+
+@jit
+def prefetch_row(a, row):
+    """Prefetch every cache line of row ``row`` of the C-contiguous 2-d array ``a``."""
+    width = a.shape[1] * a.itemsize
+    for byte in range(0, width, CACHE_LINE):
+        prefetch_item(a, row, byte // a.itemsize)
+    prefetch_item(a, row, a.shape[1] - 1)  # a row that does not start on a line ends on one more
