@@ -77,3 +77,21 @@ def test_batched_update_gives_the_scalar_results_to_the_bit(yade, monkeypatch, n
         assert apart.sum() > 100 and np.all(fn[apart] == 0) and np.all(fs[apart] == 0)
     else:
         assert len(lattice - pairs) > 100   # contacts ended (their rows compacted)
+
+
+def test_an_unknown_llvm_is_left_alone_with_a_warning(monkeypatch):
+    """LLVM ends the process on an option it does not know: granum sets its vectorizer limit only on the LLVM
+    versions known to have it, and says so otherwise (the loops stay scalar)."""
+    import llvmlite.binding as llvm
+
+    from granum import _jit
+
+    calls = []
+    monkeypatch.setattr(llvm, "set_option", lambda *args: calls.append(args))
+    monkeypatch.setattr(llvm, "llvm_version_info", (99, 0, 0))
+    with pytest.warns(RuntimeWarning, match="LLVM 99"):
+        _jit.allow_vectorize_checks()
+    assert calls == []
+    monkeypatch.setattr(llvm, "llvm_version_info", (22, 1, 0))
+    _jit.allow_vectorize_checks()
+    assert calls == [("granum", f"-vectorize-memory-check-threshold={_jit.VECTORIZE_MEMORY_CHECKS}")]

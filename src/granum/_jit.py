@@ -56,19 +56,26 @@ _PKG = pathlib.Path(__file__).resolve().parent
 VECTORIZE_MEMORY_CHECKS = 1024
 
 
+#: LLVM major versions known to have the option (checked with 22, llvmlite 0.50; it dates from LLVM 3.6): LLVM ends
+#: the process on an option it does not know, so a newer one is left alone
+VECTORIZE_OPTION_LLVM = range(4, 23)
+
+
 def allow_vectorize_checks() -> None:
     """Raise LLVM's limit of run-time overlap tests to :data:`VECTORIZE_MEMORY_CHECKS` in this process (the child
     that compiles a first run's stages too). It is a limit of the vectorizer's cost model: LLVM vectorizes a loop
     only where it estimates the loop faster with the tests than without vectorizing, and a vector loop rounds as the
-    scalar one (no fast-math reassociation). Functions of other packages compiled in the process see it too. An LLVM
-    that does not know the option warns, and the loops stay scalar: the same results, slower."""
+    scalar one (no fast-math reassociation). Functions of other packages compiled in the process see it too. With
+    an LLVM outside :data:`VECTORIZE_OPTION_LLVM` a warning says so and the loops stay scalar: the same results,
+    slower."""
     import llvmlite.binding as llvm
 
-    try:
-        llvm.set_option("granum", f"-vectorize-memory-check-threshold={VECTORIZE_MEMORY_CHECKS}")
-    except Exception as error:  # an llvmlite without the option or the call: scalar loops, same bits
-        warnings.warn(f"granum: LLVM's vectorizer limit could not be raised ({error}); batched loops stay scalar",
-                      RuntimeWarning, stacklevel=2)
+    if llvm.llvm_version_info[0] not in VECTORIZE_OPTION_LLVM:
+        warnings.warn(f"granum: LLVM {llvm.llvm_version_info[0]} is not known to have the vectorizer option "
+                      f"granum sets; batched loops stay scalar (the same results, slower)", RuntimeWarning,
+                      stacklevel=2)
+        return
+    llvm.set_option("granum", f"-vectorize-memory-check-threshold={VECTORIZE_MEMORY_CHECKS}")
 
 
 allow_vectorize_checks()

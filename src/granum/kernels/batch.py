@@ -9,10 +9,10 @@ a time instead, in two passes:
    centre, branch vector, velocities) into columns of a work area ``g``, with a mask of them (scalar: the rows of
    the bodies are scattered);
 2. :func:`update_block` computes the geometry and the law of every contact of the block from those columns and
-   the contact columns (a ``con_f`` of the core columns is stored column after column), a
-   loop without calls or branches over contiguous columns, which LLVM vectorizes (8 contacts per AVX-512
-   instruction), and stores the results of the masked contacts only. The block's other contacts (a sphere on a
-   facet, a new contact) then go through the dispatch.
+   the contact columns (where batches run, ``con_f`` is stored column after column:
+   :func:`granum.core.contacts.laid_out`), a loop without calls or branches over contiguous columns, which LLVM
+   vectorizes (8 contacts per AVX-512 instruction), and stores the results of the masked contacts only. The
+   block's other contacts (a sphere on a facet, a new contact) then go through the dispatch.
 
 The arithmetic is the scalar path's, to the bit: both call the same functions (:func:`~granum.physics.sphere.
 sphere_contact`, :func:`~granum.physics.scgeom.shear_rotation`, :func:`~granum.physics.scgeom.ratchet_velocity`,
@@ -22,7 +22,8 @@ alive, not new (their physics is computed), the anti-ratcheting geometry, the ra
 ``sphericalBodies`` wants it; and the scene aperiodic without energy tracking (:func:`scene_batchable`).
 
 Stand-alone (the dense lattice's 22,800 sphere-sphere contacts, one thread, AMD Zen 4): 27 ns a contact in scalar
-code, 14 ns batched (gather 7.6 ns, vector loop 6-7 ns).
+code, 14 ns batched (gather 7.6 ns, vector loop 6-7 ns). In place: about 12 ns for the gather and 8 for the vector
+loop (over every contact of a block), against about 35 through the dispatch.
 """
 
 from __future__ import annotations
@@ -89,8 +90,8 @@ def batchable(c, C, wanted):
 def scene_batchable(S, C, geom_tab, law_tab):
     """The flags a batchable contact has in this scene and step (:func:`batchable`), or -1 when none is: the
     scene periodic or tracking energy, the geometry without ``avoidGranularRatcheting``, the pool ``C.con_f`` in
-    C order (:func:`granum.core.contacts.contact_floats`). ``geom_tab``,
-    ``law_tab``: the functor tables, which hold both functors (:func:`granum.kernels.interaction.batched`)."""
+    C order (:func:`granum.core.contacts.laid_out`). ``geom_tab``, ``law_tab``: the functor tables, which hold
+    both functors (:func:`granum.kernels.interaction.batched`)."""
     if S.iscal[SI_PERIODIC] != 0 or S.iscal[SI_TRACK_ENERGY] != 0 or geom_tab[1][GEOM_CODE, AVOID_RATCHETING] == 0.0:
         return -1
     if C.con_f.strides[0] != C.con_f.itemsize:  # a pool in C order (a law's history): its columns are not
