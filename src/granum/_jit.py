@@ -24,8 +24,6 @@
   the stages' entry points (:class:`granum.kernels.steploop.PlainLoop`). Same
   results, bit for bit; slower first runs, and a few microseconds more per step.
   Its code is cached apart.
-* LLVM's loop vectorizer may test up to :data:`VECTORIZE_MEMORY_CHECKS` pairs of arrays for overlap before a loop
-  (:func:`allow_vectorize_checks`).
 """
 
 from __future__ import annotations
@@ -48,37 +46,6 @@ from numba import njit, prange
 from granum import _compile
 
 _PKG = pathlib.Path(__file__).resolve().parent
-
-#: The run-time overlap tests of arrays that LLVM's loop vectorizer may put before a loop it finds worth
-#: vectorizing (LLVM's ``-vectorize-memory-check-threshold``, 128 by default). The loop of the batched contact
-#: update (:mod:`granum.kernels.batch`) reads and writes 45 columns, which Numba cannot declare disjoint: it needs
-#: between 400 and 800 tests (measured), without which it stays scalar (30 instead of 14 ns a contact).
-VECTORIZE_MEMORY_CHECKS = 1024
-
-
-#: LLVM major versions known to have the option (checked with 22, llvmlite 0.50; it dates from LLVM 3.6): LLVM ends
-#: the process on an option it does not know, so a newer one is left alone
-VECTORIZE_OPTION_LLVM = range(4, 23)
-
-
-def allow_vectorize_checks() -> None:
-    """Raise LLVM's limit of run-time overlap tests to :data:`VECTORIZE_MEMORY_CHECKS` in this process (the child
-    that compiles a first run's stages too). It is a limit of the vectorizer's cost model: LLVM vectorizes a loop
-    only where it estimates the loop faster with the tests than without vectorizing, and a vector loop rounds as the
-    scalar one (no fast-math reassociation). Functions of other packages compiled in the process see it too. With
-    an LLVM outside :data:`VECTORIZE_OPTION_LLVM` a warning says so and the loops stay scalar: the same results,
-    slower."""
-    import llvmlite.binding as llvm
-
-    if llvm.llvm_version_info[0] not in VECTORIZE_OPTION_LLVM:
-        warnings.warn(f"granum: LLVM {llvm.llvm_version_info[0]} is not known to have the vectorizer option "
-                      f"granum sets; batched loops stay scalar (the same results, slower)", RuntimeWarning,
-                      stacklevel=2)
-        return
-    llvm.set_option("granum", f"-vectorize-memory-check-threshold={VECTORIZE_MEMORY_CHECKS}")
-
-
-allow_vectorize_checks()
 
 
 #: Packages whose code can end up inside compiled kernels (the YADE layer, the engines

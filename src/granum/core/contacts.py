@@ -28,14 +28,11 @@ potential pairs are never real, so granum keeps them apart:
     Outcome of this step's detection for the pair (``HIT_*`` of the interaction loop), set for the pairs
     found touching and zeroed again as they become contacts: zero outside the interaction loop.
 ``con_i``, ``con_f``  (K, NI_CORE or NI) int32 and (K, NF) float64
-    The pool of real contacts, one row per contact. Column offsets are the
+    The pool of real contacts, one row per contact (all columns of a contact are
+    adjacent in memory, which suits the per-contact loop). Column offsets are the
     ``I_*`` and ``F_*`` constants below; laws may declare extra history columns,
     appended after the core ones (see :func:`contact_width`); the periodic image columns
-    of ``con_i`` exist in periodic scenes only. ``con_i`` is stored row after row (C order); ``con_f`` too,
-    except in a scene whose sphere-sphere Cundall-Strack contacts are batched (:mod:`granum.kernels.batch`) and
-    whose pool holds the core columns only: there column after column (F order, :func:`contact_floats`), so that a
-    column over a run of contacts is contiguous and the batched loop vectorizes. The record has a type for each
-    order.
+    of ``con_i`` exist in periodic scenes only.
 ``csr_start``, ``csr_con``  (N+1,) and (2K,) int32
     For each body, the indices of its live contacts in increasing order. Forces are
     gathered per body through this index, so the summation order is fixed and
@@ -210,47 +207,9 @@ CONTACTS = RecordSpec("ContactArrays", [
     ("pair_ids", "i4", 2), ("pair_cell", "i4", 2), ("pair_con", "i4", 1), ("pair_gap", "f4", 1),
     ("pair_ref", "i2", 2), ("pair_hit", "u1", 1),
     ("con_i", "i4", 2),
-    ("con_f", "f8", 2, "CF"), ("csr_start", "i4", 1), ("csr_con", "i4", 1), ("ctr", "i8", 1), ("ended", "f8", 1),
+    ("con_f", "f8", 2), ("csr_start", "i4", 1), ("csr_con", "i4", 1), ("ctr", "i8", 1), ("ended", "f8", 1),
     ("scratch", "f8", 1)], transient=("scratch",))
 ContactArrays = CONTACTS.tuple
-
-
-#: the widest ``con_f`` stored column after column (F order): the core columns. A law with history makes rows
-#: wider, and its per-contact code reads a row's many columns together, which the hardware prefetches well only
-#: in C order (F order made the CPM lattice 32 % and the cohesive one 47 % slower)
-F_ORDER_WIDTH = NF_CORE
-
-
-def contact_floats(rows: int, width: int, columnwise: bool = False) -> np.ndarray:
-    """A zeroed ``con_f`` of ``rows`` contacts and ``width`` columns, (rows, width) float64: in F order when
-    ``columnwise`` (for the batched update, :mod:`granum.kernels.batch`) and it is at most :data:`F_ORDER_WIDTH`
-    wide, else in C order (the scalar path reads a contact's columns together: F order made a 1,000-sphere
-    triaxial test 9 % slower)."""
-    return np.zeros((width, rows)).T if columnwise and width <= F_ORDER_WIDTH else np.zeros((rows, width))
-
-
-def is_columnwise(con_f: np.ndarray) -> bool:
-    """Whether ``con_f`` is stored column after column (F order, more than one row)."""
-    return con_f.flags.f_contiguous and not con_f.flags.c_contiguous
-
-
-def laid_out(C: ContactArrays, width: int, columnwise: bool) -> ContactArrays:
-    """Storage whose ``con_f`` has at least ``width`` columns (new ones zero: history starts empty) in the memory
-    order :func:`contact_floats` gives, and ``ended`` as many (the same arrays if they are so already). Done by the
-    engine before a run: compiled code growing or widening a pool keeps its order, which the record's type holds
-    (``granum.kernels.interaction.contact_floats_like``)."""
-    rows, old = C.con_f.shape
-    width = max(width, old)
-    con_f, ended = C.con_f, C.ended
-    if old < width or is_columnwise(con_f) != (columnwise and width <= F_ORDER_WIDTH and rows > 1):
-        con_f = contact_floats(rows, width, columnwise)
-        con_f[:, :old] = C.con_f
-    if ended.shape[0] < width:
-        ended = np.zeros(width)
-        ended[:C.ended.shape[0]] = C.ended
-    if con_f is C.con_f and ended is C.ended:
-        return C
-    return C._replace(con_f=con_f, ended=ended)
 
 
 def new_contact_arrays(n_bodies: int, pair_capacity: int = 64, contact_capacity: int = 64,
@@ -268,7 +227,7 @@ def new_contact_arrays(n_bodies: int, pair_capacity: int = 64, contact_capacity:
         pair_ref=np.zeros((pair_capacity, 3), np.int16),
         pair_hit=np.zeros(pair_capacity, np.uint8),
         con_i=con_i,
-        con_f=contact_floats(contact_capacity, NF_CORE),  # C order: the engine lays it out (laid_out)
+        con_f=np.zeros((contact_capacity, NF_CORE), np.float64),
         csr_start=np.zeros(n_bodies + 1, np.int32),
         csr_con=np.zeros(2 * contact_capacity, np.int32),
         ctr=ctr,

@@ -127,9 +127,7 @@ class RecordSpec:
 
     Args:
         name: name of the record kind (also of the Python named tuple).
-        fields: ``(field name, dtype, ndim)`` for every array, or ``(field name, dtype, ndim, layout)`` with the
-            array's memory order, ``"C"`` (the default: row after row), ``"F"`` (column after column) or ``"CF"``
-            (either, for one field: a record has a Numba type for each, and code compiles for the one it gets).
+        fields: ``(field name, dtype, ndim)`` for every array.
         transient: fields that hold no state (work areas whose contents a step does not read from the step
             before): checkpoints leave them out, and a record loaded from one gets them as a new record has
             them. The named tuple's class lists them in ``_transient``.
@@ -137,49 +135,36 @@ class RecordSpec:
 
     def __init__(self, name: str, fields: list[tuple[str, str, int]], transient: tuple[str, ...] = ()):
         self.names = [f[0] for f in fields]
-        #: per field, the memory order its arrays have: "C", "F", or "CF" (either: the record has a type for each)
-        self.layouts = {f[0]: f[3] if len(f) > 3 else "C" for f in fields}
-        either = [n for n, lay in self.layouts.items() if lay == "CF"]
-        if len(either) > 1:
-            raise ValueError(f"record {name}: at most one field may be stored in either order, not {either}")
-        #: the field stored in either order (None: none)
-        self.either = either[0] if either else None
         self.tuple = namedtuple(name, self.names)
         self.tuple._transient = frozenset(transient)
-        #: the Numba type of a record, by the memory order of the field ``either`` ("C" only when there is none)
-        self.numba_types = {order: RecordType([(f[0], types.Array(numpy_support.from_dtype(np.dtype(f[1])), f[2],
-                                                                  order if f[0] == self.either else
-                                                                  self.layouts[f[0]])) for f in fields])
-                            for order in (("C", "F") if self.either else ("C",))}
-        self.numba_type = self.numba_types["C"]
+        self.numba_type = RecordType([(n, types.Array(numpy_support.from_dtype(np.dtype(d)), nd, "C"))
+                                      for n, d, nd in fields])
         args = ", ".join(self.names)
         src = [
             f'"""Generated record conversions for {name}; do not edit."""',
             "from numba.experimental import structref",
             "from granum._jit import jit",
             "from granum.core.records import SPECS",
+            f"TYPE = SPECS[{name!r}].numba_type",
+            "",
+            "",
+            "@jit",
+            f"def to_record({args}):",
+            "    r = structref.new(TYPE)",
         ]
-        for order in self.numba_types:
-            src += [f"TYPE_{order} = SPECS[{name!r}].numba_types[{order!r}]", "", "", "@jit",
-                    f"def to_record_{order}({args}):", f"    r = structref.new(TYPE_{order})"]
-            src += [f"    r.{n} = {n}" for n in self.names]
-            src += ["    return r", "", ""]
-        src += ["@jit", "def from_record(r):", "    return (" + ", ".join(f"r.{n}" for n in self.names) + ",)"]
+        src += [f"    r.{n} = {n}" for n in self.names]
+        src += ["    return r", "", "", "@jit", "def from_record(r):",
+                "    return (" + ", ".join(f"r.{n}" for n in self.names) + ",)"]
         SPECS[name] = self
         self._module = load_module(f"record_{name}", "\n".join(src) + "\n")
 
     def compiled_constructor(self):
-        """The constructor for compiled code: ``make(*arrays)``, a record of the arrays given in field order (the
-        field ``either`` in C order)."""
-        return self._module.to_record_C
+        """The constructor for compiled code: ``make(*arrays)``, a record of the arrays given in field order."""
+        return self._module.to_record
 
     def to_record(self, values) -> Record:
-        """A record holding the arrays of the named tuple ``values`` (typed by the order of the field ``either``)."""
-        order = "C"
-        if self.either is not None:
-            a = getattr(values, self.either)
-            order = "F" if a.flags.f_contiguous and not a.flags.c_contiguous else "C"
-        return call(getattr(self._module, f"to_record_{order}"), *values)
+        """A record holding the arrays of the named tuple ``values``."""
+        return call(self._module.to_record, *values)
 
     def from_record(self, record: Record):
         """The arrays of ``record`` as a named tuple."""

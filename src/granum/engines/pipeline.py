@@ -13,14 +13,14 @@ import functools
 import numpy as np
 
 from granum.core.attrs import Attr, edit_token, instance_of, note_assignment, only_default, to_bool, to_float, to_int
-from granum.core.contacts import TOTALS, contact_width, laid_out, shared_columns
+from granum.core.contacts import TOTALS, contact_width, shared_columns
 from granum.core.shapes import ShapeKind
 from granum.engines.base import GlobalEngine
 from granum.engines.functors import check_role, functor_table
 from granum.kernels.collider import ColliderParams
 from granum.kernels.dispatch import code_of, functors
 from granum.kernels.forces import GravityParams
-from granum.kernels.interaction import InteractionParams, batched
+from granum.kernels.interaction import InteractionParams
 from granum.kernels.newton import NewtonParams, vectorized
 from granum.kernels.static import Static
 from granum.mathtypes import Matrix3, Vector3, as_vec3
@@ -260,18 +260,13 @@ class InteractionLoop(GlobalEngine):
         geom_tab = functor_table("geom", self.geomDispatcher.functors, scene.contact_functors("geom"))
         # pairs skip detection on budgets computed with these functors (see interaction.detect_pair)
         scene.detection_uses(t["geom_code"].tobytes() + t["geom_swap"].tobytes() + geom_tab[1].tobytes())
-        law_tab = functor_table("law", self.lawDispatcher.functors, scene.contact_functors("law"))
-        width = contact_width(self.contact_groups(scene))
-        batches = batched(scene.body_count, geom_tab, law_tab)
-        # in the memory order the batches want (compiled code keeps it)
-        scene.contacts = laid_out(scene.contacts, width, batches.value[1])
         return InteractionParams(
             geom_code=t["geom_code"], geom_swap=t["geom_swap"], geom_tab=geom_tab, geom_type=t["geom_type"],
             phys_code=t["phys_code"], phys_swap=t["phys_swap"],
             phys_tab=functor_table("phys", self.physDispatcher.functors, scene.contact_functors("phys")),
-            phys_type=t["phys_type"], law_code=t["law_code"], law_tab=law_tab,
-            pair_ok=t["pair_ok"], width=width, law_totals=law_totals(),
-            batched=batches)
+            phys_type=t["phys_type"], law_code=t["law_code"],
+            law_tab=functor_table("law", self.lawDispatcher.functors, scene.contact_functors("law")),
+            pair_ok=t["pair_ok"], width=contact_width(self.contact_groups(scene)), law_totals=law_totals())
 
     def check_contact_columns(self, scene, t) -> None:
         """Refuse a plan in which one contact's functors (geometry, physics and the law they dispatch to, the

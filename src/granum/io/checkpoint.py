@@ -384,8 +384,6 @@ class _Decoder:
                     if len(a) > len(ref):
                         raise self.fail(f"{name}.ctr holds {len(a)} counters; this granum has {len(ref)}")
                     a = np.concatenate([a, np.zeros(len(ref) - len(a), a.dtype)])   # earlier versions had fewer
-                if f == "con_f":
-                    a = np.ascontiguousarray(a)  # C order: the engine lays the pool out before a run (laid_out)
                 out[f] = a
             return type(fresh)(**out)
         v = self.value(node)

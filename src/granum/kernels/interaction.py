@@ -22,7 +22,6 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from numba import types
 
 from granum._jit import BLOCK, PARALLEL_THRESHOLD, PARALLEL_THRESHOLD_CONTACTS, jit, kernel, overload, prange
 from granum.core.arrays import (
@@ -73,16 +72,14 @@ from granum.core.contacts import (
     STATUS_NO_PHYS,
 )
 from granum.core.records import borrow, raw
-from granum.kernels import batch
-from granum.kernels.batch import AREA_WORDS, MASK, MIN_BATCH, STRIDE, never_erase, scene_batchable
 from granum.kernels.bounds import body_displacement, body_reach
 from granum.kernels.copy import copy_rows
 from granum.kernels.dispatch import functors, geom_call, law_call, phys_call
-from granum.kernels.prefetch import prefetch_item, prefetch_row
+from granum.kernels.prefetch import prefetch_row
 from granum.kernels.schedule import block_queue, next_block, queue_workers, thread_count
 from granum.kernels.scratch import area, rows_of, take_f8, take_i4, take_i8, words_i4
 from granum.kernels.sorting import argsort_keys
-from granum.kernels.static import Static, static_value
+from granum.kernels.static import static_value
 from granum.physics.scgeom import contact_shift, scgeom_incident_vel
 from granum.physics.vec import add, cross, inv3, load3, matvec, scale, sub
 
@@ -90,10 +87,6 @@ from granum.physics.vec import add, cross, inv3, load3, matvec, scale, sub
 GATHER_AHEAD = 4
 #: contact pools from this size [bytes of con_f] on are prefetched by the gather (larger than the caches)
 GATHER_PREFETCH_BYTES = 16 << 20
-#: the ``con_f`` columns the force gather reads of a sphere contact (radial lever arms), a line each when con_f
-#: is stored column after column
-GATHER_COLUMNS = (F_NORMAL, F_NORMAL + 1, F_NORMAL + 2, F_PEN, F_R1, F_R2,
-                  F_FN, F_FN + 1, F_FN + 2, F_FS, F_FS + 1, F_FS + 2)
 
 FLAG_PHYS_SWAP = 8   # the physics functor is declared for (material 2, material 1)
 HIT_TOUCH = 1        # pair_hit: the pair touches and becomes a contact
@@ -350,26 +343,13 @@ def quick_bound(S, extent, turn):
     return (extent + max(0.0, turn - S.scal[S_TURN_ALLOWANCE])) * (1.0 + 1e-12)  # above the rounding of the sum
 
 
-def contact_floats_like(con_f, rows, width):
-    """A zeroed pool of ``rows`` contacts and ``width`` columns in the memory order of ``con_f`` (the record's
-    type holds it: see :func:`granum.core.contacts.contact_floats`). Compiled code only."""
-    raise TypeError("contact_floats_like is called from compiled kernels only")
-
-
-@overload(contact_floats_like, inline="always")
-def _contact_floats_like(con_f, rows, width):
-    if isinstance(con_f, types.Array) and con_f.layout == "F":
-        return lambda con_f, rows, width: np.zeros((width, rows)).T
-    return lambda con_f, rows, width: np.zeros((rows, width))
-
-
 @jit
 def grow_contacts(C, need):
     """Make room for at least ``need`` contacts (rows copied; the capacity grows by half at least, so that
     contacts appearing a few at a time are copied O(1) times each, and to ``need`` when more are asked)."""
     cap = max(need, C.con_i.shape[0] + C.con_i.shape[0] // 2, 64)
     con_i = np.zeros((cap, C.con_i.shape[1]), np.int32)
-    con_f = contact_floats_like(C.con_f, cap, C.con_f.shape[1])
+    con_f = np.zeros((cap, C.con_f.shape[1]), np.float64)
     n = C.ctr[C_CONTACTS]
     copy_rows(con_i, C.con_i, n)
     copy_rows(con_f, C.con_f, n)
@@ -381,11 +361,9 @@ def grow_contacts(C, need):
 
 @jit
 def widen_contacts(C, width):
-    """Give ``con_f`` at least ``width`` columns (new ones zero: history starts empty), and ``ended`` as many
-    (the engine lays the pool out before a run, :func:`granum.core.contacts.laid_out`: this one acts when a
-    pool came narrower meanwhile, and keeps its memory order)."""
+    """Give ``con_f`` at least ``width`` columns (new ones zero: history starts empty), and ``ended`` as many."""
     if C.con_f.shape[1] < width:
-        con_f = contact_floats_like(C.con_f, C.con_f.shape[0], width)
+        con_f = np.zeros((C.con_f.shape[0], width), np.float64)
         copy_rows(con_f, C.con_f, C.con_f.shape[0])
         C.con_f = con_f
         C.ctr[C_REPLACED] += 1
@@ -511,22 +489,6 @@ class InteractionParams(NamedTuple):
     #: per Law2 functor code, the running totals its contacts keep after ending (first ``con_f`` column, count;
     #: count 0: none; :func:`granum.core.contacts.register_totals`), (law functors, 2) int64
     law_totals: np.ndarray
-    #: ``("batched", bool)``: runs of sphere-sphere Cundall-Strack contacts are updated in batches
-    #: (:mod:`granum.kernels.batch`); :func:`batched` chooses it
-    batched: Static
-
-
-#: Bodies from which a scene's sphere-sphere Cundall-Strack contacts are batched (:mod:`granum.kernels.batch`). The
-#: batched loops add to a first run's compiling; smaller scenes, which gain little, compile none (as Newton's
-#: vectorized steps, :data:`granum.kernels.newton.VECTORIZED_BODIES`).
-BATCHED_BODIES = 1024
-
-
-def batched(body_count: int, geom_tab: tuple, law_tab: tuple) -> Static:
-    """:attr:`InteractionParams.batched` for a scene of ``body_count`` bodies and the functor tables ``geom_tab``,
-    ``law_tab``: batches need both functors of :mod:`granum.kernels.batch` in them."""
-    both = batch.GEOM_CODE in geom_tab[0].value[2] and batch.LAW_CODE in law_tab[0].value[2]
-    return Static(("batched", both and body_count >= BATCHED_BODIES))
 
 
 @jit
@@ -600,69 +562,23 @@ def update_contact(c, S, C, geom_tab, phys_tab, law_tab, died):
         died[c // BLOCK] = 1
 
 
-def update_range(batched, lo, hi, S, C, geom_tab, phys_tab, law_tab, died, g):
-    """Update the contacts lo..hi-1 (:func:`update_contact`); ``batched``, a static ``("batched", bool)``
-    (:func:`batched`): with it, runs of batchable contacts go through :mod:`granum.kernels.batch` (``g``: the
-    thread's work area, (GATHERED, STRIDE) float64), without it that code is not compiled. Compiled code only."""
-    raise TypeError("update_range is called from compiled kernels only")
-
-
-@jit(inline="always")  # the loop in update_block, where its arrays are borrowed (called: 6-8 % slower, CPM lattice)
-def update_each(lo, hi, S, C, geom_tab, phys_tab, law_tab, died, g):
-    """:func:`update_range` without batches: every contact through the dispatch."""
-    for c in range(lo, hi):
-        update_contact(c, S, C, geom_tab, phys_tab, law_tab, died)
-
-
-@jit(inline="always")  # as update_each
-def update_batched(lo, hi, S, C, geom_tab, phys_tab, law_tab, died, g):
-    """:func:`update_range` with batches: the block's batchable contacts together
-    (:func:`~granum.kernels.batch.update_block`) when there are enough of them, then the others through the
-    dispatch (the same results, to the bit: a contact's update reads and writes only its own row and its bodies'
-    state)."""
-    wanted = scene_batchable(S, C, geom_tab, law_tab)
-    batched = wanted >= 0 and batch.gather_bodies(lo, hi, S, C, g, wanted) >= MIN_BATCH
-    if batched:
-        batch.update_block(lo, hi, S, C, g, never_erase(law_tab), died)
-    for c in range(lo, hi):  # the only call site: the inlined functors are compiled once
-        if not (batched and g[MASK, c - lo] != 0.0):
-            update_contact(c, S, C, geom_tab, phys_tab, law_tab, died)
-
-
-@overload(update_range, inline="always")  # the chosen loop in update_block, where its arrays are borrowed
-def _update_range(batched, lo, hi, S, C, geom_tab, phys_tab, law_tab, died, g):
-    value = static_value(batched, "batched")
-    if value is None:
-        return None
-    if value[1]:
-        def with_batches(batched, lo, hi, S, C, geom_tab, phys_tab, law_tab, died, g):
-            update_batched(lo, hi, S, C, geom_tab, phys_tab, law_tab, died, g)
-        return with_batches
-
-    def each(batched, lo, hi, S, C, geom_tab, phys_tab, law_tab, died, g):
-        update_each(lo, hi, S, C, geom_tab, phys_tab, law_tab, died, g)
-    return each
-
-
 @jit
-def update_block(b, S, C, geom_tab, phys_tab, law_tab, died, law_totals, totals, batched, area):
-    """Contacts of block ``b`` (:func:`update_range`; ``area``: the thread's work area, AREA_WORDS float64), then
-    those of them that ended unlinked (:func:`unlink_block`); the arrays are borrowed (no reference counting per
-    contact: see ARCHITECTURE.md, "Kernel records")."""
+def update_block(b, S, C, geom_tab, phys_tab, law_tab, died, law_totals, totals):
+    """Contacts of block ``b``, then those of them that ended unlinked (:func:`unlink_block`); the arrays are
+    borrowed (no reference counting per contact: see ARCHITECTURE.md, "Kernel records")."""
     geom_tab, phys_tab, law_tab, died = borrow((geom_tab, phys_tab, law_tab, died))
-    update_range(batched, b * BLOCK, min(C.ctr[C_CONTACTS], (b + 1) * BLOCK), S, C, geom_tab, phys_tab, law_tab, died,
-                 rows_of(area, STRIDE))
+    for c in range(b * BLOCK, min(C.ctr[C_CONTACTS], (b + 1) * BLOCK)):
+        update_contact(c, S, C, geom_tab, phys_tab, law_tab, died)
     if died[b] != 0:
         unlink_block(b, C, died, law_totals, totals)
 
 
-def _update(S, C, geom_tab, phys_tab, law_tab, died, law_totals, totals, batched, areas):
-    """``areas`` (workers, AREA_WORDS) float64: a work area per worker (a row per thread at least)."""
+def _update(S, C, geom_tab, phys_tab, law_tab, died, law_totals, totals):
     queue = block_queue(died.shape[0])
     for w in prange(queue_workers(queue)):
         b = next_block(queue, w, -1)
         while b >= 0:
-            update_block(b, S, C, geom_tab, phys_tab, law_tab, died, law_totals, totals, batched, areas[w])
+            update_block(b, S, C, geom_tab, phys_tab, law_tab, died, law_totals, totals)
             b = next_block(queue, w, b)
 
 
@@ -744,7 +660,7 @@ def compact(C):
                 k += 1
         perm = argsort_keys(keys)
         con_i = np.empty((live, C.con_i.shape[1]), np.int32)
-        con_f = contact_floats_like(C.con_f, live, C.con_f.shape[1])
+        con_f = np.empty((live, C.con_f.shape[1]))
         for t in range(live):
             c = rows[perm[t]]
             for j in range(con_i.shape[1]):
@@ -875,26 +791,10 @@ def gather_body(i, S, C, laws):
 
 @jit
 def prefetch_contacts(i, C):
-    """Ask for the lines of body ``i``'s contacts that the gather reads (:func:`prefetch_contact`; see
-    :mod:`granum.kernels.prefetch`; their ``con_i`` rows, one line each, gained nothing measurable)."""
+    """Ask for the ``con_f`` rows of body ``i``'s contacts (see :mod:`granum.kernels.prefetch`; their
+    ``con_i`` rows, one line each, gained nothing measurable)."""
     for k in range(C.csr_start[i], C.csr_start[i + 1]):
-        prefetch_contact(C.con_f, C.csr_con[k])
-
-
-def prefetch_contact(con_f, c):
-    """Prefetch what the gather reads of contact ``c``: its row's lines (C order), or the lines of the columns
-    :data:`GATHER_COLUMNS` (F order, a line each). Compiled code only."""
-    raise TypeError("prefetch_contact is called from compiled kernels only")
-
-
-@overload(prefetch_contact, inline="always")
-def _prefetch_contact(con_f, c):
-    if isinstance(con_f, types.Array) and con_f.layout == "F":
-        def columns(con_f, c):
-            for col in GATHER_COLUMNS:
-                prefetch_item(con_f, c, col)
-        return columns
-    return lambda con_f, c: prefetch_row(con_f, c)
+        prefetch_row(C.con_f, C.csr_con[k])
 
 
 @jit
@@ -1003,19 +903,17 @@ def interaction_stage(S, C, P):
     n = C.ctr[C_CONTACTS]
     contact_blocks = (n + BLOCK - 1) // BLOCK
     nended = C.ended.shape[0]
-    w = area(C, words_i4(contact_blocks) + contact_blocks * nended + workers * AREA_WORDS)
+    w = area(C, words_i4(contact_blocks) + contact_blocks * nended)
     V = raw(C)  # the storage may have grown
     died, at = take_i4(w, 0, contact_blocks)
     died[:] = 0
     totals, at = take_f8(w, at, contact_blocks * nended)
     totals = rows_of(totals, nended)
     totals[:] = 0.0
-    areas, at = take_f8(w, at, workers * AREA_WORDS)
-    areas = rows_of(areas, AREA_WORDS)
     if n < PARALLEL_THRESHOLD_CONTACTS:
-        update(R, V, geom_tab, phys_tab, law_tab, died, P.law_totals, totals, P.batched, areas)
+        update(R, V, geom_tab, phys_tab, law_tab, died, P.law_totals, totals)
     else:
-        update_par(R, V, geom_tab, phys_tab, law_tab, died, P.law_totals, totals, P.batched, areas)
+        update_par(R, V, geom_tab, phys_tab, law_tab, died, P.law_totals, totals)
     count_dead(V, died, totals)
     if V.ctr[C_CSR_DIRTY]:
         if 4 * V.ctr[C_DEAD] > V.ctr[C_CONTACTS]:

@@ -162,10 +162,19 @@ def law_cundall_strack(c, id1, id2, S, C, prm):
     kn = f[c, F_KN]
     ks = f[c, F_KS]
     n = (f[c, F_NORMAL], f[c, F_NORMAL + 1], f[c, F_NORMAL + 2])
+    fn = scale(n, kn * pen)
     fs = scgeom_rotate_shear(c, id1, id2, S, C, (f[c, F_FS], f[c, F_FS + 1], f[c, F_FS + 2]))
     shift, shift_vel = contact_shift(c, S, C)
     v = scgeom_incident_vel(c, id1, id2, S, C, shift, shift_vel, scgeom_ratchet(c, C))
-    fn, fs, dissip = cundall_strack_forces(n, pen, kn, ks, f[c, F_TANPHI], fs, v, S.scal[S_DT])
+    du = scale(tangential(v, n), S.scal[S_DT])
+    fs = sub(fs, scale(du, ks))
+    max_fs2 = dot(fn, fn) * f[c, F_TANPHI] * f[c, F_TANPHI]
+    fs2 = dot(fs, fs)
+    dissip = 0.0
+    if fs2 > max_fs2:
+        trial = fs
+        fs = scale(fs, math.sqrt(max_fs2) / math.sqrt(fs2))
+        dissip = dot(scale(sub(trial, fs), 1.0 / ks), fs)
     for k in range(3):
         f[c, F_FN + k] = fn[k]
         f[c, F_FS + k] = fs[k]
@@ -181,25 +190,6 @@ def law_cundall_strack(c, id1, id2, S, C, prm):
     if not C.con_i[c, I_FLAGS] & FLAG_RADIAL_ARMS and prm[SPHERICAL_BODIES] != 0.0:
         C.con_i[c, I_FLAGS] |= FLAG_RADIAL_ARMS
     return True
-
-
-@jit(inline="always")  # per contact: no call (also in the batched update, granum.kernels.batch)
-def cundall_strack_forces(n, pen, kn, ks, tanphi, fs, v, dt):
-    """The forces of :func:`law_cundall_strack` on body 2, ``(F_N, F_T, dissipation)`` [N, N, J]: from the unit
-    normal ``n``, penetration ``pen`` [m], stiffnesses ``kn``, ``ks`` [N/m], the friction coefficient ``tanphi``
-    [-], the last shear force carried into the current tangent plane ``fs`` [N], the incident velocity ``v``
-    [m/s] and the time step ``dt`` [s]. The dissipation is that of a slip (0 without)."""
-    fn = scale(n, kn * pen)
-    du = scale(tangential(v, n), dt)
-    fs = sub(fs, scale(du, ks))
-    max_fs2 = dot(fn, fn) * tanphi * tanphi
-    fs2 = dot(fs, fs)
-    dissip = 0.0
-    if fs2 > max_fs2:
-        trial = fs
-        fs = scale(fs, math.sqrt(max_fs2) / math.sqrt(fs2))
-        dissip = dot(scale(sub(trial, fs), 1.0 / ks), fs)
-    return fn, fs, dissip
 
 
 #: a per-pair stiffness given by a MatchMaker [N/m]

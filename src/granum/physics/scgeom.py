@@ -66,21 +66,15 @@ def scgeom_write(c, C, normal, pen, point, r1, r2, ratchet):
 
 @jit(inline="always")  # per contact: no call
 def scgeom_shear_rotation(c, id1, id2, S, C):
-    """The step's rotation of contact ``c``'s tangent plane, ``(orth, twist)`` for :func:`rotate_tangential`
-    (:func:`shear_rotation` of the contact's normals and bodies). A law carrying several tangential vectors
-    computes it once."""
+    """The step's rotation of contact ``c``'s tangent plane, ``(orth, twist)`` for :func:`rotate_tangential`:
+    orth = n_prev x n (the normal's turn, (3.3,4)) and twist = dt/2 (n_prev . (w1 + w2)) n_prev (the common
+    spin of the two bodies about the normal). A law carrying several tangential vectors computes it once."""
     f = C.con_f
     n = (f[c, F_NORMAL], f[c, F_NORMAL + 1], f[c, F_NORMAL + 2])
     n0 = (f[c, F_PREV_NORMAL], f[c, F_PREV_NORMAL + 1], f[c, F_PREV_NORMAL + 2])
-    return shear_rotation(n0, n, add(load3(S.ang_vel, id1), load3(S.ang_vel, id2)), S.scal[S_DT])
-
-
-@jit(inline="always")  # per contact: no call
-def shear_rotation(n0, n, w, dt):
-    """The rotation of a tangent plane in a step ``dt`` [s], ``(orth, twist)``: orth = n_prev x n (the normal's
-    turn, (3.3,4)) and twist = dt/2 (n_prev . w) n_prev (the common spin of the two bodies about the normal);
-    ``n0``, ``n`` the previous and current unit normals, ``w`` = w1 + w2 [rad/s]."""
-    return cross(n0, n), scale(n0, 0.5 * dt * dot(n0, w))
+    orth = cross(n0, n)
+    w = add(load3(S.ang_vel, id1), load3(S.ang_vel, id2))
+    return orth, scale(n0, 0.5 * S.scal[S_DT] * dot(n0, w))
 
 
 @jit(inline="always")  # per contact: no call
@@ -134,21 +128,14 @@ def scgeom_incident_vel(c, id1, id2, S, C, shift, shift_vel, ratchet):
     w1 = load3(S.ang_vel, id1)
     w2 = load3(S.ang_vel, id2)
     if ratchet:
-        return ratchet_velocity(n, f[c, F_R1], f[c, F_R2], f[c, F_PEN], v1, v2, w1, w2)
+        r1 = f[c, F_R1]
+        r2 = f[c, F_R2]
+        alpha = (r1 + r2) / (r1 + r2 - f[c, F_PEN])
+        return sub(add(scale(sub(v2, v1), alpha), cross(w2, scale(n, -r2))), cross(w1, scale(n, r1)))
     p = (f[c, F_POINT], f[c, F_POINT + 1], f[c, F_POINT + 2])
     arm1 = sub(p, load3(S.pos, id1))
     arm2 = sub(p, add(load3(S.pos, id2), shift))
     return sub(add(v2, cross(w2, arm2)), add(v1, cross(w1, arm1)))
-
-
-@jit(inline="always")  # per contact: no call
-def ratchet_velocity(n, r1, r2, pen, v1, v2, w1, w2):
-    """The anti-ratcheting velocity of body 2 relative to body 1 at the contact [m/s] (see
-    :func:`scgeom_incident_vel`): alpha (v2 - v1) + w2 x (-r2 n) - w1 x (r1 n), alpha = (r1 + r2) / (r1 + r2 -
-    pen); reference radii ``r1``, ``r2`` and penetration ``pen`` [m], unit normal ``n``, centre velocities
-    ``v1``, ``v2`` [m/s], angular velocities ``w1``, ``w2`` [rad/s]."""
-    alpha = (r1 + r2) / (r1 + r2 - pen)
-    return sub(add(scale(sub(v2, v1), alpha), cross(w2, scale(n, -r2))), cross(w1, scale(n, r1)))
 
 
 @jit(inline="always")  # per contact: no call

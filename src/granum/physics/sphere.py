@@ -52,19 +52,10 @@ def geom_sphere_sphere(c, id1, id2, shift, S, C, prm):
     r1, r2, p1, d, dist = sphere_pair(id1, id2, shift, S)
     if c < 0:
         return dist - prm[DETECTION_FACTOR] * (r1 + r2)
-    n, pen, point = sphere_contact(r1, r2, p1, d, dist)
-    scgeom_write(c, C, n, pen, point, r1, r2, prm[AVOID_RATCHETING] != 0.0)
-    return 0.0
-
-
-@jit(inline="always")  # per contact: no call
-def sphere_contact(r1, r2, p1, d, dist):
-    """The ScGeom of two spheres (see :func:`geom_sphere_sphere`), ``(n, delta, C)``: unit normal, penetration
-    depth [m] and contact point [m], from the radii [m], the centre ``p1`` [m], the branch vector ``d`` [m] and
-    its length ``dist`` [m] (:func:`sphere_pair`)."""
     pen = r1 + r2 - dist
     n = scale(d, 1.0 / dist)
-    return n, pen, add(p1, scale(n, r1 - 0.5 * pen))
+    scgeom_write(c, C, n, pen, add(p1, scale(n, r1 - 0.5 * pen)), r1, r2, prm[AVOID_RATCHETING] != 0.0)
+    return 0.0
 
 
 BO1_SPHERE = Functor(

@@ -106,10 +106,9 @@ def _holds(C, row: int, a: int, b: int) -> bool:
 
 class _Rows:
     """Where contact rows were found: the ``scene``, its storage ``C`` of that moment, its count of ended rows
-    ``dead`` and flat memoryviews of its columns, shared by every handle found in it: ``f[row * fr + column * fc]``
-    is ``con_f[row, column]`` (stored in F or C order: ``fr``, ``fc`` its strides in items), ``i[row * iw +
-    column]`` is ``con_i[row, column]`` (C order; a memoryview reads a number several times faster than NumPy's
-    indexing), ``ctr`` the
+    ``dead`` and flat memoryviews of its columns, shared by every handle found in it: ``f[row * fw + column]``
+    is ``con_f[row, column]``, ``i[row * iw + column]`` is ``con_i[row, column]`` (the storage is allocated
+    C-contiguous; a memoryview reads a number several times faster than NumPy's indexing), ``ctr`` the
     counters, ``geom``/``phys`` the functor codes by row; ``geom_class``/``phys_class``, once a walk has found
     that all the live contacts have the same one, their view class (else None: read by row).
 
@@ -120,16 +119,14 @@ class _Rows:
     that (``_Bound``, ``_field_property``). While, besides, its count of ended rows is still ``dead``, the
     contact is as real as it was (``Interaction._row``)."""
 
-    __slots__ = ("scene", "C", "dead", "f", "fr", "fc", "i", "iw", "ctr", "geom", "phys", "geom_class", "phys_class")
+    __slots__ = ("scene", "C", "dead", "f", "fw", "i", "iw", "ctr", "geom", "phys", "geom_class", "phys_class")
 
     def __init__(self, scene, C=None):
         self.scene, self.C = scene, C
         if C is None:  # nothing found yet: never current (C is not the scene's storage), so nothing else is read
             self.dead = -1
             return
-        f = C.con_f
-        self.f = memoryview(f if f.flags.c_contiguous else f.T).cast("B").cast("d")  # f.T of F order: C order
-        self.fr, self.fc = f.strides[0] // f.itemsize, f.strides[1] // f.itemsize
+        self.f, self.fw = memoryview(C.con_f).cast("B").cast("d"), C.con_f.shape[1]
         self.i, self.iw = memoryview(C.con_i).cast("B").cast("i"), C.con_i.shape[1]
         self.geom, self.phys = memoryview(C.con_i[:, I_GEOM]), memoryview(C.con_i[:, I_PHYS])  # functor codes
         self.ctr = memoryview(C.ctr)
@@ -236,9 +233,8 @@ class _BoundVector3(_Bound, Vector3):
         if at.C is not at.scene.contacts:
             view._moved()
             at = view._at
-        f, fc = at.f, at.fc
-        k = view._row * at.fr + self._col * fc
-        return f[k], f[k + fc], f[k + 2 * fc]
+        f, k = at.f, view._row * at.fw + self._col
+        return f[k], f[k + 1], f[k + 2]
 
     def squaredNorm(self):
         x, y, z = self._xyz()
@@ -250,9 +246,8 @@ class _BoundVector3(_Bound, Vector3):
         if at.C is not at.scene.contacts:
             view._moved()
             at = view._at
-        f, fc = at.f, at.fc
-        k = view._row * at.fr + self._col * fc
-        x, y, z = f[k], f[k + fc], f[k + 2 * fc]
+        f, k = at.f, view._row * at.fw + self._col
+        x, y, z = f[k], f[k + 1], f[k + 2]
         return sqrt(x * x + (y * y + z * z))
 
     __abs__ = norm
@@ -294,7 +289,7 @@ def _field_property(name: str, field: tuple) -> property:
             if at.C is not at.scene.contacts:  # _value_row, inlined
                 view._moved()
                 at = view._at
-            return scalar(at.f[view._row * at.fr + col * at.fc])
+            return scalar(at.f[view._row * at.fw + col])
     else:
         def get(view):
             value = bound()
