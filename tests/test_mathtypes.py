@@ -453,6 +453,13 @@ def test_converters():
     for src in [(0.1, -0.0, 1e308), [2 ** 62 + 1, -7, 3.5], (float("nan"), float("inf"), -float("inf")),
                 (True, 0, 1), [1, 2.5, 2 ** 53 + 1]]:
         assert as_vec3(src).tobytes() == np.array(as_array(Vector3, src), dtype=np.float64).tobytes(), src
+    # ints beyond int64: what the general conversion does (NumPy takes 2**63 as a float, refuses larger ones)
+    assert as_vec3((2 ** 63, 1, 2)).tolist() == [2.0 ** 63, 1.0, 2.0]
+    for src in [(2 ** 64, 1, 2), [10 ** 400, 1, 2], (-2 ** 63 - 1, 0.5, 0)]:
+        with pytest.raises(TypeError, match="components of type object"):
+            as_array(Vector3, src)
+        with pytest.raises(TypeError, match="components of type object"):
+            as_vec3(src)
     with pytest.raises(ValueError, match="expected a 3-vector, got 2 components"):
         as_vec3((1, 2))
     with pytest.raises(ValueError, match="expected a 3-vector, got 4 components"):

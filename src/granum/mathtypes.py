@@ -79,7 +79,9 @@ def as_array(cls, obj) -> np.ndarray:
     return a.astype(cls._dtype, copy=False)
 
 
-_PLAIN_NUMBERS = (float, int)   # components as_vec3 converts directly (as_array would give the same values)
+#: as_vec3 converts floats and ints within int64 directly (as_array gives the same values); a larger int goes to
+#: as_array, which NumPy makes an object array of (refused) or a float (2**63)
+_INT64 = 1 << 63
 
 
 def as_vec3(obj) -> np.ndarray:
@@ -87,7 +89,8 @@ def as_vec3(obj) -> np.ndarray:
     kind = type(obj)
     if kind is Vector3:   # the setters' usual arguments, without as_array's checks (1.2 -> 0.3-0.5 us)
         return obj._a.copy()
-    if (kind is tuple or kind is list) and len(obj) == 3 and all([type(x) in _PLAIN_NUMBERS for x in obj]):
+    if (kind is tuple or kind is list) and len(obj) == 3 and \
+            all([type(x) is float or (type(x) is int and -_INT64 <= x < _INT64) for x in obj]):
         return np.array(obj, dtype=np.float64)
     return np.array(as_array(Vector3, obj), copy=True)
 
