@@ -299,3 +299,25 @@ def test_in_place_operations_on_held_values_write_their_contact(yade):
     fn[1], fn[2] = 3.0, 4.0
     fn.normalize()
     assert _brute_force(y)[key] == (0.0, 0.6, 0.8) and fn.norm() == 1.0
+
+
+def test_held_values_read_the_storage_assigned_to_the_scene(yade):
+    """Any assignment of ``scene.contacts`` (a step's, ``createInteraction``'s, or here a plain one) tells the held
+    handles that their rows may be elsewhere (``ContactsGeneration``): they read the new arrays, not the old."""
+    y = yade
+    _pile(y)
+    y.O.step()
+    i = next(iter(y.O.interactions))
+    fn, ph = i.phys.normalForce, i.phys
+    scene = y.O._scene
+    generation = scene.contacts_generation
+    C = scene.contacts
+    con_f = C.con_f.copy()
+    con_f[:, F_FN:F_FN + 3] *= 2.0
+    scene.contacts = C._replace(con_f=con_f)
+    assert generation.replaced and not scene.contacts_generation.replaced
+    key = (i.id1, i.id2)
+    row = intr_module.find_contact(scene, *key)
+    assert tuple(fn) == _brute_force(y)[key] == tuple(2.0 * C.con_f[row, F_FN:F_FN + 3])
+    assert ph.normalForce.norm() == fn.norm() == y.Vector3(*_brute_force(y)[key]).norm()
+    assert type(i).__name__ == "Interaction" and isinstance(i, intr_module.Interaction)

@@ -109,6 +109,18 @@ def _forgetter(scene):
     return forget
 
 
+class ContactsGeneration:
+    """The life of one :attr:`Scene.contacts` object: ``replaced`` becomes True when the scene's contacts are next
+    assigned (a step took them back from compiled code, which may have moved rows; another storage). Python-side
+    caches of contact rows hold it: one attribute read tells them whether their rows are still in place, where
+    comparing with the scene's attribute cost a walk of ``O.interactions`` a tenth of its time."""
+
+    __slots__ = ("replaced",)
+
+    def __init__(self):
+        self.replaced = False
+
+
 class Scene(BodyStore):
     """Storage, clock and engines of one simulation (what YADE's ``O`` refers to)."""
 
@@ -117,6 +129,7 @@ class Scene(BodyStore):
         self._record = None   # (ids of the arrays, the record made of them): see arrays()
         self._contacts_record = None   # (contacts, the record they came from, its C_REPLACED): see take_contacts()
         self._forget = _forgetter(self)   # see arrays()
+        self._generation = ContactsGeneration()   # renewed with each contacts object (__setattr__)
         self.contacts = new_contact_arrays(0)
         self.scal = np.zeros(NSCAL)
         self.iscal = np.zeros(NSISCAL, np.int64)
@@ -146,7 +159,14 @@ class Scene(BodyStore):
             kept = self.__dict__.get("_contacts_record")
             if kept is not None and kept[0] is not value:
                 object.__setattr__(self, "_contacts_record", None)
+            self._generation.replaced = True
+            object.__setattr__(self, "_generation", ContactsGeneration())
         object.__setattr__(self, name, value)
+
+    @property
+    def contacts_generation(self) -> ContactsGeneration:
+        """The :class:`ContactsGeneration` of :attr:`contacts` now."""
+        return self._generation
 
     # ---- clock ----------------------------------------------------------------------
     @property
