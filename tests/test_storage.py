@@ -82,6 +82,24 @@ def test_a_sphere_packing_run_allocates_none_of_the_rarely_used_body_columns(yad
     assert O.forces.permF(4)[2] == 3.0
 
 
+def test_detached_bodies_that_used_a_rarely_used_column_do_not_allocate_it_for_later_spheres(yade):
+    """Detached bodies share one table: a box made earlier with an angular velocity and a reference orientation
+    allocates its angular momenta and reference orientations there, which the spheres appended later must not
+    bring into the scene (each sphere's rows hold the defaults); the box's own values still arrive with it."""
+    O = yade.O
+    box = yade.box((0, 0, 0), (0.1, 0.2, 0.3))
+    box.state.angVel = (1.0, 2.0, 3.0)
+    box.state.refOri = yade.Quaternion((0, 0, 1), 0.5)
+    O.bodies.append([yade.sphere((0, 0, 0.0099 * 2 * k), 0.01) for k in range(5)])
+    b = O._scene.bodies
+    assert not b.allocated("ang_mom") and not b.allocated("ref_ori")
+    O.bodies.append(box)
+    assert b.allocated("ang_mom") and b.allocated("ref_ori")
+    assert np.allclose(np.asarray(O.bodies[5].state.angMom), np.asarray(box.state.inertia) * (1.0, 2.0, 3.0))
+    assert O.bodies[5].state.refOri == yade.Quaternion((0, 0, 1), 0.5)
+    assert O.bodies[0].state.refOri == yade.Quaternion(1, 0, 0, 0)
+
+
 def test_an_aspherical_body_gets_its_angular_momentum_from_its_angular_velocity(yade):
     O = yade.O
     box = yade.box((0, 0, 0), (0.1, 0.2, 0.3))
@@ -232,9 +250,10 @@ def test_bodies_made_and_dropped_reuse_the_rows_of_the_storage_of_detached_bodie
     detached bodies without end."""
     from granum.yade.bodies import _NURSERY
 
+    start = _NURSERY.bodies.count   # rows used by earlier tests' scenes are kept: measured from here
     kept = yade.sphere((0, 0, 0), 1.0)
     assert isinstance(kept, yade.Body) and type(kept).__name__ == "Body"
     for k in range(5000):
         yade.sphere((0, 0, k), 0.1)
         yade.Sphere(radius=0.1)
-    assert kept.id == -1 and _NURSERY.bodies.count <= 2 * _NURSERY.BLOCK
+    assert kept.id == -1 and _NURSERY.bodies.count <= start + 2 * _NURSERY.BLOCK

@@ -141,12 +141,18 @@ class Table:
 
     def copy_rows(self, src: Table, src_rows, dst_rows) -> None:
         """Copy every column of ``src[src_rows]`` into rows ``dst_rows`` of this table: a row index each, or
-        index arrays of one length (n,) int (one NumPy copy a column for all the rows)."""
+        index arrays of one length (n,) int (one NumPy copy a column for all the rows). A lazy column this table
+        has not allocated stays so while the rows copied hold its default (the source's may be allocated for other
+        rows: detached bodies share one table, and one aspherical body among them must not give every later scene
+        its angular momenta)."""
         mine, theirs = self.__dict__, src.__dict__   # the allocated columns (:meth:`allocated`), looked up once
         for c in self._columns.values():
             a = theirs.get(c.name)
             if a is not None:
-                getattr(self, c.name)[dst_rows] = a[src_rows]
+                values = a[src_rows]
+                if c.lazy and c.name not in mine and bool(np.all(values == np.asarray(c.default, dtype=c.dtype))):
+                    continue
+                getattr(self, c.name)[dst_rows] = values
             elif c.name in mine:
                 mine[c.name][dst_rows] = c.default
 
