@@ -411,10 +411,10 @@ class Interaction:
             scene = Scene()
         self._ids, self._hint, self._at = _pack(int(id1), int(id2)), -1, _Rows(scene)
 
-    @classmethod
-    def _found(cls, scene, id1: int, id2: int, row: int) -> Interaction:
+    @staticmethod
+    def _found(scene, id1: int, id2: int, row: int) -> Interaction:
         """The interaction of bodies ``id1``, ``id2`` (Python ints), whose contact row in the scene's storage
-        of now is ``row`` (-1: none)."""
+        of now is ``row`` (-1: none): a :class:`_Found`, as walks make."""
         intr = _Found()
         intr._ids, intr._hint, intr._at = _pack(id1, id2), row, _rows_of(scene)
         return intr
