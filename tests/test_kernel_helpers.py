@@ -327,6 +327,33 @@ def test_spheres_left_counts_what_the_per_body_test_finds():
         assert spheres(hi=41, **{name: (41, value)})
 
 
+def test_sphere_motions_are_the_displacements_and_their_box():
+    """The detection's motions of a block of live bounded spheres (granum.kernels.interaction.sphere_motions):
+    each row the centre's displacement since its bound and a zero rotation term, the block's spread the least and
+    greatest displacement per axis, computed here in NumPy; an infinite or NaN displacement makes the rotation
+    entry infinite (no bound), and rows outside the block are left alone."""
+    from granum.kernels.interaction import sphere_motions
+
+    rng = np.random.default_rng(14)
+    n = 700
+    bound_pos = rng.random((n, 3))
+    pos = bound_pos + rng.normal(size=(n, 3)) * 0.01
+    for lo, hi in ((0, 512), (512, 700), (9, 10)):
+        motion = np.full((n, 4), 7.0)
+        spread = np.zeros(7)
+        sphere_motions(lo, hi, pos, bound_pos, motion, spread)
+        d = pos[lo:hi] - bound_pos[lo:hi]
+        assert np.array_equal(motion[lo:hi, :3], d) and not motion[lo:hi, 3].any()
+        assert (np.delete(motion, np.s_[lo:hi], axis=0) == 7.0).all()
+        assert np.array_equal(spread, np.r_[d.min(0), d.max(0), 0.0])
+    for bad in (np.nan, np.inf, -np.inf):
+        moved = pos.copy()
+        moved[30, 2] = bad
+        spread = np.zeros(7)
+        sphere_motions(0, 512, moved, bound_pos, np.zeros((n, 4)), spread)
+        assert spread[6] == np.inf
+
+
 def test_budgets_exceeded_is_whether_a_pair_passes_the_quick_test():
     """detect_block lists a block's pairs only when one of them has a budget not above the bound
     (granum.kernels.interaction.budgets_exceeded): NumPy's answer, with infinite and NaN budgets."""

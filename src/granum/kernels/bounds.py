@@ -82,12 +82,14 @@ def bounds_overlap(S, i, j):
 @jit
 def live_bounded_spheres(lo, hi, alive, shape_kind, bound_min, bound_max):
     """Whether the bodies lo..hi-1 are all live spheres with a bound, whose :func:`body_displacement` is their
-    centre's alone (no reach). A count over views from 0, which LLVM vectorizes."""
+    centre's alone (no reach). A count over views from 0, which LLVM vectorizes (the bounds as flat views: over the
+    (n, 3) rows it did not, 2.3 against 1.3 ns a body)."""
     n = hi - lo
-    alive, shape_kind, bound_min, bound_max = alive[lo:hi], shape_kind[lo:hi], bound_min[lo:hi], bound_max[lo:hi]
+    alive, shape_kind = alive[lo:hi], shape_kind[lo:hi]
+    lows, highs = bound_min[lo:hi].reshape(3 * n), bound_max[lo:hi].reshape(3 * n)
     count = 0
     for i in range(n):
-        count += alive[i] & (shape_kind[i] == ShapeKind.SPHERE) & ~(bound_min[i, 0] > bound_max[i, 0])
+        count += alive[i] & (shape_kind[i] == ShapeKind.SPHERE) & ~(lows[3 * i] > highs[3 * i])
     return count == n
 
 

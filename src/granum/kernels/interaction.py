@@ -23,7 +23,16 @@ from typing import NamedTuple
 
 import numpy as np
 
-from granum._jit import BLOCK, PARALLEL_THRESHOLD, PARALLEL_THRESHOLD_CONTACTS, jit, kernel, overload, prange
+from granum._jit import (
+    BLOCK,
+    PARALLEL_THRESHOLD,
+    PARALLEL_THRESHOLD_CONTACTS,
+    VECTOR_MIN_ITEMS,
+    jit,
+    kernel,
+    overload,
+    prange,
+)
 from granum.core.arrays import (
     E_ELAST_POT,
     E_PLAST_DISSIP,
@@ -72,7 +81,7 @@ from granum.core.contacts import (
     STATUS_NO_PHYS,
 )
 from granum.core.records import borrow, raw
-from granum.kernels.bounds import body_displacement, body_reach
+from granum.kernels.bounds import body_displacement, body_reach, live_bounded_spheres, sphere_shift
 from granum.kernels.copy import copy_rows
 from granum.kernels.dispatch import functors, geom_call, law_call, phys_call
 from granum.kernels.prefetch import prefetch_row
@@ -274,11 +283,15 @@ def motion_block(b, S, nb, motion, spread):
     rotation times reach (:func:`granum.kernels.bounds.body_displacement`); in ``spread[b]`` (7,) the
     least and the greatest displacement per axis and the greatest rotation term of its live bodies
     (inf when one of them is not finite)."""
+    lo, hi = b * BLOCK, min(nb, (b + 1) * BLOCK)
+    if hi - lo >= VECTOR_MIN_ITEMS and live_bounded_spheres(lo, hi, S.alive, S.shape_kind, S.bound_min, S.bound_max):
+        sphere_motions(lo, hi, S.pos, S.bound_pos, motion, spread[b])
+        return
     lo_x = lo_y = lo_z = math.inf  # scalars, not lists: a list would live on the heap
     hi_x = hi_y = hi_z = -math.inf
     w_max = 0.0
     alive = S.alive
-    for i in range(b * BLOCK, min(nb, (b + 1) * BLOCK)):
+    for i in range(lo, hi):
         dx, dy, dz, w = body_displacement(i, S)
         motion[i, 0] = dx
         motion[i, 1] = dy
@@ -292,6 +305,32 @@ def motion_block(b, S, nb, motion, spread):
     spread[b, 0], spread[b, 1], spread[b, 2] = lo_x, lo_y, lo_z
     spread[b, 3], spread[b, 4], spread[b, 5] = hi_x, hi_y, hi_z
     spread[b, 6] = w_max
+
+
+@jit
+def sphere_motions(lo, hi, pos, bound_pos, motion, spread):
+    """:func:`motion_block` for the bodies lo..hi-1, all :func:`live_bounded_spheres` (no rotation term): the same
+    rows of ``motion`` and the same ``spread`` (7,), from loops over flat views without a branch (the block's
+    test of each body's shape, life and bound, a dozen nanoseconds a body, done once for the block)."""
+    n = hi - lo
+    p, q, m = pos[lo:hi].reshape(3 * n), bound_pos[lo:hi].reshape(3 * n), motion[lo:hi].reshape(4 * n)
+    for i in range(n):
+        dx, dy, dz = sphere_shift(i, p, q)
+        m[4 * i] = dx
+        m[4 * i + 1] = dy
+        m[4 * i + 2] = dz
+        m[4 * i + 3] = 0.0
+    lo_x = lo_y = lo_z = math.inf
+    hi_x = hi_y = hi_z = -math.inf
+    finite = 0
+    for i in range(n):
+        dx, dy, dz = m[4 * i], m[4 * i + 1], m[4 * i + 2]
+        lo_x, lo_y, lo_z = min(lo_x, dx), min(lo_y, dy), min(lo_z, dz)
+        hi_x, hi_y, hi_z = max(hi_x, dx), max(hi_y, dy), max(hi_z, dz)
+        finite += abs(dx) + abs(dy) + abs(dz) < math.inf
+    spread[0], spread[1], spread[2] = lo_x, lo_y, lo_z
+    spread[3], spread[4], spread[5] = hi_x, hi_y, hi_z
+    spread[6] = 0.0 if finite == n else math.inf   # NaN or inf somewhere: no bound (as motion_block)
 
 
 def _body_motions(S, nb, motion, spread):

@@ -252,12 +252,28 @@ def turn(i, ori, rv, exact_norm):
 
 
 @jit(inline="always")
-def sane(i, pos, vel, ang_vel):
-    """Whether body ``i`` is finite and not exploding. One test for all six: one inf or NaN makes the sum NaN
-    (x - x != 0); finite values whose sum overflows (beyond 1e307) are reported too, as exploding."""
-    speed2 = vel[i, 0] ** 2 + vel[i, 1] ** 2 + vel[i, 2] ** 2
-    sum6 = pos[i, 0] + pos[i, 1] + pos[i, 2] + ang_vel[i, 0] + ang_vel[i, 1] + ang_vel[i, 2]
+def sane_values(p, v, w):
+    """Whether a body at ``p`` [m] (3 values), moving at ``v`` [m/s] and turning at ``w`` [rad/s] is finite and not
+    exploding. One test for all six: one inf or NaN makes the sum NaN (x - x != 0); finite values whose sum
+    overflows (beyond 1e307) are reported too, as exploding."""
+    speed2 = v[0] ** 2 + v[1] ** 2 + v[2] ** 2
+    sum6 = p[0] + p[1] + p[2] + w[0] + w[1] + w[2]
     return (speed2 < EXPLODING_SPEED ** 2) & (sum6 - sum6 == 0.0)
+
+
+@jit(inline="always")
+def sane(i, pos, vel, ang_vel):
+    """:func:`sane_values` of body ``i`` of the (N, 3) positions, velocities and angular velocities."""
+    return sane_values((pos[i, 0], pos[i, 1], pos[i, 2]), (vel[i, 0], vel[i, 1], vel[i, 2]),
+                       (ang_vel[i, 0], ang_vel[i, 1], ang_vel[i, 2]))
+
+
+@jit(inline="always")
+def sane_flat(i, p, v, w):
+    """:func:`sane_values` of body ``i`` of flat (3 n,) positions, velocities and angular velocities (a loop over
+    these vectorizes; over (n, 3) views it did not)."""
+    return sane_values((p[3 * i], p[3 * i + 1], p[3 * i + 2]), (v[3 * i], v[3 * i + 1], v[3 * i + 2]),
+                       (w[3 * i], w[3 * i + 1], w[3 * i + 2]))
 
 
 @jit(inline="always")
@@ -365,10 +381,14 @@ def plain_block(lo, hi, pos, vel, ori, ang_vel, force, torque, mass, inertia, is
             o[4 * i + 1] = q[1] if moving else q0[1]
             o[4 * i + 2] = q[2] if moving else q0[2]
             o[4 * i + 3] = q[3] if moving else q0[3]
-    first = n
+    insane = 0
     for i in range(n):
-        first = min(first, n if sane(i, pos2, vel2, ang_vel2) else i)   # a minimum, not an early exit
-    return lo + first if first < n else -1
+        insane += not sane_flat(i, p, v, w)   # a count, which LLVM vectorizes (a running minimum it did not)
+    if insane:
+        for i in range(n):
+            if not sane_flat(i, p, v, w):
+                return lo + i
+    return -1
 
 
 def plain_run(vectorized, S, lo, hi, gravity, dt, damping, damp_gravity, mask):
