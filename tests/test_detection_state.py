@@ -105,3 +105,45 @@ def test_a_checkpoint_with_stale_hits_resumes_exactly(yade, tmp_path):
     got = O.bodies.arrays("pos", "vel", "angVel")
     for k in ("ids", "pos", "vel", "angVel"):
         assert np.array_equal(got[k], expected[k]), k
+
+
+def _touching_sphere_pairs(O, n) -> set:
+    """The pairs of the spheres 0..n-1 that overlap now (brute force over every two)."""
+    b = O._scene.bodies
+    pos = b.pos[:n]
+    r = np.array([O.bodies[i].shape.radius for i in range(n)])
+    d = np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=2)
+    i, j = np.nonzero(np.triu(d < r[:, None] + r[None, :], 1))
+    return set(zip(i.tolist(), j.tolist(), strict=True))
+
+
+def test_a_moved_detection_origin_misses_no_touching_pair(yade):
+    """A cluster of spheres dropped onto a facet spreads and bounces: the box of the displacements since the
+    collider ran outgrows the pairs' budgets, and the detection moves its origin (granum.kernels.interaction.
+    reorigin: some body's detect_shift is set). At every step every two spheres that overlap when the step
+    begins (brute force) are in contact after it: the detection evaluated every pair that could touch."""
+    O = yade.O
+    mat = O.materials.append(yade.ViscElMat(density=2300, frictionAngle=0.5, tc=0.001, en=0.3, et=0.3))
+    ids = O.bodies.append(yade.pack.regularHexa(yade.pack.inSphere((0, 0.3, 0), 0.15), radius=0.01, gap=0.005,
+                                                material=mat))
+    n = len(ids)
+    assert ids == list(range(n)) and n > 1000
+    O.bodies.append(yade.geom.facetBox((0, 0.43, 0), (0.4, 0.3, 0.4), material=mat))   # the floor 2 cm below
+    O.engines = [
+        yade.ForceResetter(),
+        yade.InsertionSortCollider([yade.Bo1_Sphere_Aabb(), yade.Bo1_Facet_Aabb()]),
+        yade.InteractionLoop([yade.Ig2_Sphere_Sphere_ScGeom(), yade.Ig2_Facet_Sphere_ScGeom()],
+                             [yade.Ip2_ViscElMat_ViscElMat_ViscElPhys()], [yade.Law2_ScGeom_ViscElPhys_Basic()]),
+        yade.NewtonIntegrator(damping=0, gravity=(0, -9.81, 0)),
+    ]
+    O.dt = 1e-4
+    O.run(600, True)   # just before the impact
+    shifted = checked = 0
+    for _ in range(300):
+        touching = _touching_sphere_pairs(O, n)
+        O.step()
+        checked += len(touching)
+        assert touching <= {tuple(p) for p in _contacts(O)}
+        O.run(2, True)
+        shifted += bool(O._scene.bodies.detect_shift[:n].any())
+    assert checked > 1000 and shifted > 0

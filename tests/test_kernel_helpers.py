@@ -329,20 +329,21 @@ def test_spheres_left_counts_what_the_per_body_test_finds():
 
 def test_sphere_motions_are_the_displacements_and_their_box():
     """The detection's motions of a block of live bounded spheres (granum.kernels.interaction.sphere_motions):
-    each row the centre's displacement since its bound and a zero rotation term, the block's spread the least and
-    greatest displacement per axis, computed here in NumPy; an infinite or NaN displacement makes the rotation
-    entry infinite (no bound), and rows outside the block are left alone."""
+    each row the centre's displacement since its bound less the detection's shift, and a zero rotation term, the
+    block's spread the least and greatest of these per axis, computed here in NumPy; an infinite or NaN
+    displacement makes the rotation entry infinite (no bound), and rows outside the block are left alone."""
     from granum.kernels.interaction import sphere_motions
 
     rng = np.random.default_rng(14)
     n = 700
     bound_pos = rng.random((n, 3))
     pos = bound_pos + rng.normal(size=(n, 3)) * 0.01
+    shift = rng.normal(size=(n, 3)) * 0.01 * (rng.random((n, 1)) < 0.5)
     for lo, hi in ((0, 512), (512, 700), (9, 10)):
         motion = np.full((n, 4), 7.0)
         spread = np.zeros(7)
-        sphere_motions(lo, hi, pos, bound_pos, motion, spread)
-        d = pos[lo:hi] - bound_pos[lo:hi]
+        sphere_motions(lo, hi, pos, bound_pos, shift, motion, spread)
+        d = (pos[lo:hi] - bound_pos[lo:hi]) - shift[lo:hi]
         assert np.array_equal(motion[lo:hi, :3], d) and not motion[lo:hi, 3].any()
         assert (np.delete(motion, np.s_[lo:hi], axis=0) == 7.0).all()
         assert np.array_equal(spread, np.r_[d.min(0), d.max(0), 0.0])
@@ -350,8 +351,52 @@ def test_sphere_motions_are_the_displacements_and_their_box():
         moved = pos.copy()
         moved[30, 2] = bad
         spread = np.zeros(7)
-        sphere_motions(0, 512, moved, bound_pos, np.zeros((n, 4)), spread)
+        sphere_motions(0, 512, moved, bound_pos, shift, np.zeros((n, 4)), spread)
         assert spread[6] == np.inf
+
+
+def test_a_moved_origin_keeps_each_pair_s_condition(yade):
+    """The detection's re-origin (granum.kernels.interaction.reorigin_pair_block): a pair with a finite budget g and
+    reference u ref gets a zero reference and the budget g' = g + |u ref| - |D - u ref| (D: its bodies' relative
+    displacement now), rounded down, so that whatever moves the bodies next (D'), |D' - D| < g' implies the old
+    condition |D' - u ref| < g + |u ref|; infinite budgets and their references stay."""
+    from granum._jit import call
+    from granum.core.arrays import S_PAIR_REF_UNIT
+    from granum.core.contacts import C_PAIRS
+    from granum.kernels.interaction import reorigin_pair_block
+
+    yade.O.bodies.append(yade.sphere((0, 0, 0), 1))
+    scene = yade.O._scene
+    S = scene.arrays()
+    unit = 1e-5
+    scene.scal[S_PAIR_REF_UNIT] = unit
+    rng = np.random.default_rng(15)
+    nb, n = 40, 300
+    motion = np.zeros((nb, 4))
+    motion[:, :3] = rng.normal(0, 0.01, (nb, 3))
+    arrays = new_contact_arrays(nb, pair_capacity=n)
+    ids = rng.integers(0, nb, (n, 2)).astype(np.int32)
+    gap = rng.uniform(-0.01, 0.05, n).astype(np.float32)
+    gap[::7], gap[3::7] = np.inf, -np.inf
+    ref = rng.integers(-2000, 2000, (n, 3)).astype(np.int16)
+    arrays.pair_ids[:] = ids
+    arrays.pair_gap[:] = gap
+    arrays.pair_ref[:] = ref
+    arrays.ctr[C_PAIRS] = n
+    call(reorigin_pair_block, 0, S, CONTACTS.to_record(arrays), motion)
+    finite = np.isfinite(gap)
+    assert np.array_equal(arrays.pair_gap[~finite], gap[~finite]) and np.array_equal(arrays.pair_ref[~finite],
+                                                                                      ref[~finite])
+    assert not arrays.pair_ref[finite].any()
+    D = motion[ids[:, 0], :3] - motion[ids[:, 1], :3]
+    reach = np.linalg.norm(unit * ref.astype(float), axis=1)
+    exact = gap.astype(float) + reach - np.linalg.norm(D - unit * ref, axis=1)
+    new = arrays.pair_gap.astype(float)
+    assert np.all(new[finite] <= exact[finite]) and np.allclose(new[finite], exact[finite], rtol=1e-6, atol=1e-9)
+    for p in np.flatnonzero(finite & (new > 0)):
+        for step in rng.normal(size=(20, 3)):
+            moved = D[p] + step / np.linalg.norm(step) * new[p] * rng.uniform(0, 1)
+            assert np.linalg.norm(moved - unit * ref[p]) < gap[p] + reach[p]
 
 
 def test_budgets_exceeded_is_whether_a_pair_passes_the_quick_test():

@@ -156,8 +156,10 @@ def any_body_moved(S, nb, flags):
 @jit
 def bound_body(i, S, bound_code, bound_tab, verlet, out):
     """Bound of body ``i`` enlarged by ``verlet``, and the position and orientation it was taken at
-    (``out``: (6,) scratch for the bound functor)."""
+    (``out``: (6,) scratch for the bound functor); the detection's shift back to zero."""
     code = bound_code[S.shape_kind[i]] if S.alive[i] else -1
+    for k in range(3):
+        S.detect_shift[i, k] = 0.0   # the detection measures from the new bound again
     if code < 0:
         for k in range(3):
             S.bound_min[i, k] = math.inf   # no bound: never collides

@@ -178,12 +178,14 @@ def budgets_exceeded(lo, hi, pair_gap, bound):
 
 @jit
 def detect_block(b, S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, bound, hits, candidates):
-    """Which pairs of block ``b`` without a contact touch now: ``pair_hit``; ``hits[b]`` (2,): how many, and
-    the first of them. ``candidates`` (BLOCK,) int32: the worker's scratch list of the pairs to test.
+    """Which pairs of block ``b`` without a contact touch now: ``pair_hit``; ``hits[b]`` (3,): how many, the
+    first of them, and how many pairs were tested one by one and passed (what :func:`reorigin` would spare).
+    ``candidates`` (BLOCK,) int32: the worker's scratch list of the pairs to test.
 
     The geometry of a pair is evaluated only when the relative motion of its two bodies since
     its last evaluation reaches what the separation then found allows. With d_a, d_b the
-    displacements of the bodies' centres since the collider ran and w_a, w_b their rotations
+    displacements of the bodies' centres since the collider ran (less the detection's shift, zero until
+    :func:`reorigin` moves the origin) and w_a, w_b their rotations
     times their reach (``motion``, see :func:`body_motions`), D = d_a - d_b: any point of body a
     moved relative to body b by at most |D(t) - D(t0)| + w_a(t) + w_b(t) + w_a(t0) + w_b(t0)
     between t0 and t (rotations measured from the same reference orientations add). An
@@ -207,6 +209,9 @@ def detect_block(b, S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, bound
     sphere pairs. The per-pair test gives T back to a pair whose bodies turn now (w_a + w_b > 0: it is
     a turning pair); a turning pair whose bodies have not turned yet is tested without it (smaller,
     still safe). The arrays are read into locals (borrowed: no reference counting per pair).
+
+    When E has outgrown the budgets of many pairs, they are listed and pass the per-pair test at every step until
+    the collider runs again: the stage then moves the origin of D to the present (:func:`reorigin`).
     """
     motion, hits, candidates, pair_con, pair_ids, pair_gap, pair_hit, pair_ref = borrow(
         (motion, hits, candidates, C.pair_con, C.pair_ids, C.pair_gap, C.pair_hit, C.pair_ref))
@@ -221,7 +226,7 @@ def detect_block(b, S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, bound
     # a mispredicted branch per pair cost more than the listing. A pair with a contact has an infinite budget,
     # above any finite bound: only an infinite bound needs pair_con read (pair_hit is zero here: see
     # create_contacts)
-    listed = 0
+    listed = passed = 0
     end = min(C.ctr[C_PAIRS], (b + 1) * BLOCK)
     if bound < math.inf:
         if budgets_exceeded(b * BLOCK, end, pair_gap, bound):   # else nothing to test in the block (often)
@@ -253,7 +258,9 @@ def detect_block(b, S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, bound
         if turn > 0.0:
             slack += allowance
         # |D - unit ref| < slack, compared squared: no square root per pair
-        if not (slack > 0.0 and ex * ex + ey * ey + ez * ez < slack * slack):
+        if slack > 0.0 and ex * ex + ey * ey + ez * ez < slack * slack:
+            passed += 1
+        else:
             hit = detect_pair(p, S, C, geom_code, geom_swap, geom_tab, pair_ok, (dx, dy, dz), turn)
             if hit != 0:
                 pair_hit[p] = hit
@@ -262,6 +269,7 @@ def detect_block(b, S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, bound
                 found += 1
     hits[b, 0] = found
     hits[b, 1] = first
+    hits[b, 2] = passed
 
 
 def _detect(S, C, geom_code, geom_swap, geom_tab, pair_ok, motion, bound, hits, lists):
@@ -279,20 +287,22 @@ detect, detect_par = kernel(_detect, over="pairs")
 
 @jit
 def motion_block(b, S, nb, motion, spread):
-    """Rows of ``motion`` (nb, 4) for the bodies of block ``b``: displacement since the collider ran and
-    rotation times reach (:func:`granum.kernels.bounds.body_displacement`); in ``spread[b]`` (7,) the
+    """Rows of ``motion`` (nb, 4) for the bodies of block ``b``: displacement since the collider ran, less the
+    detection's shift (``detect_shift``: zero until :func:`reorigin`), and rotation times reach
+    (:func:`granum.kernels.bounds.body_displacement`); in ``spread[b]`` (7,) the
     least and the greatest displacement per axis and the greatest rotation term of its live bodies
     (inf when one of them is not finite)."""
     lo, hi = b * BLOCK, min(nb, (b + 1) * BLOCK)
     if hi - lo >= VECTOR_MIN_ITEMS and live_bounded_spheres(lo, hi, S.alive, S.shape_kind, S.bound_min, S.bound_max):
-        sphere_motions(lo, hi, S.pos, S.bound_pos, motion, spread[b])
+        sphere_motions(lo, hi, S.pos, S.bound_pos, S.detect_shift, motion, spread[b])
         return
     lo_x = lo_y = lo_z = math.inf  # scalars, not lists: a list would live on the heap
     hi_x = hi_y = hi_z = -math.inf
     w_max = 0.0
-    alive = S.alive
+    alive, shift = S.alive, S.detect_shift
     for i in range(lo, hi):
         dx, dy, dz, w = body_displacement(i, S)
+        dx, dy, dz = dx - shift[i, 0], dy - shift[i, 1], dz - shift[i, 2]
         motion[i, 0] = dx
         motion[i, 1] = dy
         motion[i, 2] = dz
@@ -308,17 +318,18 @@ def motion_block(b, S, nb, motion, spread):
 
 
 @jit
-def sphere_motions(lo, hi, pos, bound_pos, motion, spread):
+def sphere_motions(lo, hi, pos, bound_pos, shift, motion, spread):
     """:func:`motion_block` for the bodies lo..hi-1, all :func:`live_bounded_spheres` (no rotation term): the same
     rows of ``motion`` and the same ``spread`` (7,), from loops over flat views without a branch (the block's
     test of each body's shape, life and bound, a dozen nanoseconds a body, done once for the block)."""
     n = hi - lo
     p, q, m = pos[lo:hi].reshape(3 * n), bound_pos[lo:hi].reshape(3 * n), motion[lo:hi].reshape(4 * n)
+    s = shift[lo:hi].reshape(3 * n)
     for i in range(n):
         dx, dy, dz = sphere_shift(i, p, q)
-        m[4 * i] = dx
-        m[4 * i + 1] = dy
-        m[4 * i + 2] = dz
+        m[4 * i] = dx - s[3 * i]
+        m[4 * i + 1] = dy - s[3 * i + 1]
+        m[4 * i + 2] = dz - s[3 * i + 2]
         m[4 * i + 3] = 0.0
     lo_x = lo_y = lo_z = math.inf
     hi_x = hi_y = hi_z = -math.inf
@@ -371,6 +382,93 @@ def motion_bound(S, spread):
         return 0.0, 0.0
     extent = math.sqrt((hi_x - lo_x) ** 2 + (hi_y - lo_y) ** 2 + (hi_z - lo_z) ** 2)
     return extent, 2.0 * w_max
+
+
+#: The detection moves its origin (:func:`reorigin`) when more than one pair in REORIGIN_SHARE was tested one by one
+#: and passed in a step: the box of the displacements since the collider ran has outgrown their budgets.
+REORIGIN_SHARE = 4
+
+
+@jit
+def reorigin_pair_block(b, S, C, motion):
+    """:func:`reorigin` for the pairs of block ``b``: each pair with a finite budget g and reference ``unit ref``
+    gets the budget g' = g + |unit ref| - |D - unit ref| (less a rounding allowance) and a zero reference, D the
+    relative displacement of its bodies now (``motion``). Before, the pair could not touch while
+    |D(t) - unit ref| + turns < g + |unit ref|; since |D(t) - unit ref| <= |D(t) - D| + |D - unit ref|, it cannot
+    while |D(t) - D| + turns < g', which is the same condition measured from D: the displacement from the new
+    origin. A pair with an infinite budget (a contact, shapes that never interact: +inf; evaluated at the next
+    step: -inf) keeps it."""
+    unit = S.scal[S_PAIR_REF_UNIT]
+    motion, pair_ids, pair_gap, pair_ref = borrow((motion, C.pair_ids, C.pair_gap, C.pair_ref))
+    for p in range(b * BLOCK, min(C.ctr[C_PAIRS], (b + 1) * BLOCK)):
+        g = float(pair_gap[p])
+        if not abs(g) < math.inf:
+            continue
+        i = pair_ids[p, 0]
+        j = pair_ids[p, 1]
+        ex = motion[i, 0] - motion[j, 0] - unit * float(pair_ref[p, 0])   # as detect_block's test computes it
+        ey = motion[i, 1] - motion[j, 1] - unit * float(pair_ref[p, 1])
+        ez = motion[i, 2] - motion[j, 2] - unit * float(pair_ref[p, 2])
+        offset = math.sqrt(ex * ex + ey * ey + ez * ez)
+        reach = reference_length(pair_ref, p, unit)
+        pair_gap[p] = budget_f32(g + reach - offset - 1e-12 * (abs(g) + reach + offset))
+        for k in range(3):
+            pair_ref[p, k] = 0
+
+
+def _reorigin_pairs(S, C, motion):
+    queue = block_queue((C.ctr[C_PAIRS] + BLOCK - 1) // BLOCK)
+    for w in prange(queue_workers(queue)):
+        b = next_block(queue, w, -1)
+        while b >= 0:
+            reorigin_pair_block(b, S, C, motion)
+            b = next_block(queue, w, b)
+
+
+reorigin_pairs, reorigin_pairs_par = kernel(_reorigin_pairs, over="pairs")
+
+
+@jit
+def shift_block(b, S, nb):
+    """The detection's shift of the bodies of block ``b``: their displacement since their bound now, so that their
+    motion measured from it is zero (:func:`reorigin`)."""
+    shift = S.detect_shift
+    for i in range(b * BLOCK, min(nb, (b + 1) * BLOCK)):
+        dx, dy, dz, w = body_displacement(i, S)
+        shift[i, 0] = dx
+        shift[i, 1] = dy
+        shift[i, 2] = dz
+
+
+def _shift_bodies(S, nb):
+    queue = block_queue((nb + BLOCK - 1) // BLOCK)
+    for w in prange(queue_workers(queue)):
+        b = next_block(queue, w, -1)
+        while b >= 0:
+            shift_block(b, S, nb)
+            b = next_block(queue, w, b)
+
+
+shift_bodies, shift_bodies_par = kernel(_shift_bodies, over="bodies")
+
+
+@jit
+def reorigin(S, C, nb, motion):
+    """Move the detection's origin to the bodies' positions now (aperiodic scenes): every pair's budget measured
+    from its bodies' present relative displacement (:func:`reorigin_pair_block`), every body's motion from its
+    present position (``detect_shift``). When the box of the displacements since the collider ran has outgrown
+    the budgets of many pairs, each such pair is listed and tested one by one at every step until the collider
+    runs again (a falling ball after its impact: half of its 44,000 pairs, at about 7 ns each, in a third of the
+    steps); measured from here, the box is small again. The decisions stay the same (a pair is evaluated whenever
+    it may touch), so the results do not change. ``S``, ``C``: raw views; ``motion``: this step's."""
+    if C.ctr[C_PAIRS] < PARALLEL_THRESHOLD:
+        reorigin_pairs(S, C, motion)
+    else:
+        reorigin_pairs_par(S, C, motion)
+    if nb < PARALLEL_THRESHOLD:
+        shift_bodies(S, nb)
+    else:
+        shift_bodies_par(S, nb)
 
 
 @jit
@@ -911,15 +1009,15 @@ def interaction_stage(S, C, P):
     pair_blocks = (C.ctr[C_PAIRS] + BLOCK - 1) // BLOCK
     workers = thread_count()
     # the temporaries of detection, then those of the update, from the work area (granum.kernels.scratch)
-    w = area(C, nb * 4 + nblocks * 7 + pair_blocks * 2 + words_i4(workers * BLOCK))
+    w = area(C, nb * 4 + nblocks * 7 + pair_blocks * 3 + words_i4(workers * BLOCK))
     R = raw(S)  # hot loops read the records through raw views (see granum.core.records)
     V = raw(C)
     motion, at = take_f8(w, 0, nb * 4)
     motion = rows_of(motion, 4)
     spread, at = take_f8(w, at, nblocks * 7)
     spread = rows_of(spread, 7)
-    hits, at = take_i8(w, at, pair_blocks * 2)
-    hits = rows_of(hits, 2)  # detection writes every block's row
+    hits, at = take_i8(w, at, pair_blocks * 3)
+    hits = rows_of(hits, 3)  # detection writes every block's row
     lists, at = take_i4(w, at, workers * BLOCK)
     lists = rows_of(lists, BLOCK)
     if nb < PARALLEL_THRESHOLD:
@@ -932,9 +1030,12 @@ def interaction_stage(S, C, P):
         detect(R, V, geom_code, geom_swap, geom_tab, pair_ok, motion, bound, hits, lists)
     else:
         detect_par(R, V, geom_code, geom_swap, geom_tab, pair_ok, motion, bound, hits, lists)
-    new = 0
+    new = passed = 0
     for b in range(pair_blocks):
         new += hits[b, 0]
+        passed += hits[b, 2]
+    if S.iscal[SI_PERIODIC] == 0 and REORIGIN_SHARE * passed > V.ctr[C_PAIRS]:
+        reorigin(R, V, nb, motion)
     if new > 0:
         create_contacts(S, C, geom_code, geom_swap, geom_type, phys_code, phys_swap, phys_type, law_code, hits, new)
         if C.ctr[C_STATUS] != 0:
