@@ -117,18 +117,14 @@ def _touching_sphere_pairs(O, n) -> set:
     return set(zip(i.tolist(), j.tolist(), strict=True))
 
 
-def test_a_moved_detection_origin_misses_no_touching_pair(yade):
-    """A cluster of spheres dropped onto a facet spreads and bounces: the box of the displacements since the
-    collider ran outgrows the pairs' budgets, and the detection moves its origin (granum.kernels.interaction.
-    reorigin: some body's detect_shift is set). At every step every two spheres that overlap when the step
-    begins (brute force) are in contact after it: the detection evaluated every pair that could touch."""
+def _dropped_cluster(yade) -> int:
+    """A cluster of 1,052 spheres (gaps of half a radius) above a facet floor 2 cm below: their count."""
     O = yade.O
     mat = O.materials.append(yade.ViscElMat(density=2300, frictionAngle=0.5, tc=0.001, en=0.3, et=0.3))
     ids = O.bodies.append(yade.pack.regularHexa(yade.pack.inSphere((0, 0.3, 0), 0.15), radius=0.01, gap=0.005,
                                                 material=mat))
-    n = len(ids)
-    assert ids == list(range(n)) and n > 1000
-    O.bodies.append(yade.geom.facetBox((0, 0.43, 0), (0.4, 0.3, 0.4), material=mat))   # the floor 2 cm below
+    assert ids == list(range(len(ids)))
+    O.bodies.append(yade.geom.facetBox((0, 0.43, 0), (0.4, 0.3, 0.4), material=mat))
     O.engines = [
         yade.ForceResetter(),
         yade.InsertionSortCollider([yade.Bo1_Sphere_Aabb(), yade.Bo1_Facet_Aabb()]),
@@ -137,6 +133,52 @@ def test_a_moved_detection_origin_misses_no_touching_pair(yade):
         yade.NewtonIntegrator(damping=0, gravity=(0, -9.81, 0)),
     ]
     O.dt = 1e-4
+    return len(ids)
+
+
+DROPPED_CLUSTER = """
+import numpy
+import granum.yade as yade
+from test_detection_state import _dropped_cluster
+n = _dropped_cluster(yade)
+moved = 0
+for _ in range(120):   # the impact at step 640, the first re-origins from about step 900
+    O.run(10, True)
+    moved += bool(O._scene.bodies.detect_shift[:n].any())
+numpy.save('state.npy', numpy.array([list(b.state.pos) + list(b.state.vel) + list(b.state.angVel) for b in O.bodies]))
+numpy.save('moved.npy', numpy.array([moved]))
+"""
+
+
+def test_threads_give_the_same_bits_through_moved_origins(tmp_path):
+    """The dropped cluster over its impact with one and two threads (its pairs' detection, re-origin included, in
+    parallel at -j2): the same bits, and the detection moved its origin in both."""
+    import os
+    import subprocess
+    import sys
+
+    (tmp_path / "cluster.py").write_text(DROPPED_CLUSTER)
+    states = {}
+    for threads in ("1", "2"):
+        run = tmp_path / threads
+        run.mkdir()
+        env = {**os.environ, "PYTHONPATH": os.pathsep.join([os.path.dirname(__file__),
+                                                            os.environ.get("PYTHONPATH", "")])}
+        subprocess.run([sys.executable, "-m", "granum", "-j", threads, str(tmp_path / "cluster.py")], cwd=run,
+                       check=True, timeout=1800, env=env)
+        states[threads] = np.load(run / "state.npy")
+        assert np.load(run / "moved.npy")[0] > 0, "the detection never moved its origin"
+    assert np.abs(states["1"][:, 3:6]).max() > 0, "nothing moved"
+    assert (states["1"] == states["2"]).all()
+
+
+def test_a_moved_detection_origin_misses_no_touching_pair(yade):
+    """A cluster of spheres dropped onto a facet spreads and bounces: the box of the displacements since the
+    collider ran outgrows the pairs' budgets, and the detection moves its origin (granum.kernels.interaction.
+    reorigin: some body's detect_shift is set). At every step every two spheres that overlap when the step
+    begins (brute force) are in contact after it: the detection evaluated every pair that could touch."""
+    O = yade.O
+    n = _dropped_cluster(yade)
     O.run(600, True)   # just before the impact
     shifted = checked = 0
     for _ in range(300):

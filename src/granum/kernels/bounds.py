@@ -49,7 +49,8 @@ body_reach = load_module("shape_reach", _reach_source()).body_reach
 def body_displacement(i, S):
     """``(dx, dy, dz, w)``: displacement of body ``i``'s centre since its bound was computed [m], and
     the rotation angle since then times the body's reach [m] (0 for shapes without a reach, such as
-    spheres, whose geometry does not turn); all zero for a body without a bound."""
+    spheres, whose geometry does not turn); all zero for a dead body or one with an empty bound (no bound functor).
+    A body not bounded yet (NaN bound, appended since the collider ran) measures from its ``bound_pos``."""
     if not S.alive[i] or S.bound_min[i, 0] > S.bound_max[i, 0]:
         return 0.0, 0.0, 0.0, 0.0
     d = sub(load3(S.pos, i), load3(S.bound_pos, i))
