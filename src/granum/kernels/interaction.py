@@ -320,8 +320,9 @@ def motion_block(b, S, nb, motion, spread):
 @jit
 def sphere_motions(lo, hi, pos, bound_pos, shift, motion, spread):
     """:func:`motion_block` for the bodies lo..hi-1, all :func:`live_bounded_spheres` (no rotation term): the same
-    rows of ``motion`` and the same ``spread`` (7,), from loops over flat views without a branch (the block's
-    test of each body's shape, life and bound, a dozen nanoseconds a body, done once for the block)."""
+    rows of ``motion`` and the same ``spread`` (7,), from loops over flat views without a branch: what the per-body
+    path branches on (shape, life, bound) is tested once for the block (the falling ball's 4,428 bodies: 23.5 ->
+    19-20 us)."""
     n = hi - lo
     p, q, m = pos[lo:hi].reshape(3 * n), bound_pos[lo:hi].reshape(3 * n), motion[lo:hi].reshape(4 * n)
     s = shift[lo:hi].reshape(3 * n)
