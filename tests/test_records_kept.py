@@ -9,6 +9,7 @@ import gc
 import weakref
 
 import numpy as np
+import pytest
 from conftest import factory_in_box, frict_engines
 
 from granum.core.contacts import C_COLLIDER_RUNS, C_REPLACED, CONTACTS
@@ -98,3 +99,33 @@ def test_python_sees_every_array_compiled_code_replaced(yade):
     assert len(O.bodies) > 100 and O.interactions.countReal() > 50
     assert int(C.ctr[C_COLLIDER_RUNS]) > 100 and int(C.ctr[C_REPLACED]) > int(C.ctr[C_COLLIDER_RUNS])
     assert sum(kept[600:]) > 250   # once the factory stops, most steps replace nothing
+
+
+def test_records_compiled_code_does_not_count_stay_held_by_python_alone(yade):
+    """The scene's and the contacts' records are uncounted in compiled code (granum.core.records.UncountedRecordType):
+    every function that takes them, from the step loop down, leaves their count alone. After runs with contacts
+    that come and go, the collider running again and again and the work area growing, each is still held by one
+    reference, its Python handle's: a count taken and not given back (unboxing) would show as more, one dropped
+    and not taken as fewer (and a freed record). A dropped handle frees the record's arrays at once; compiled code
+    cannot make such a record."""
+    O = yade.O
+    factory_in_box(yade, height=0.03)
+    scene = O._scene
+    for _ in range(3):
+        O.run(150, True)
+        S, C = scene.arrays(), scene.contacts_record()
+        assert (S._meminfo.refcount, C._meminfo.refcount) == (1, 1)
+    assert O.interactions.countReal() > 20 and int(scene.contacts.ctr[C_COLLIDER_RUNS]) > 20
+    arrays = CONTACTS.tuple(*(a.copy() for a in scene.contacts))
+    record = CONTACTS.to_record(arrays)
+    O.run(1, True)   # compiled code ran meanwhile, with the scene's records
+    column = weakref.ref(arrays.con_f)
+    del arrays
+    gc.collect()
+    assert column() is not None   # the record holds its arrays ...
+    assert record._meminfo.refcount == 1
+    del record
+    gc.collect()
+    assert column() is None   # ... and frees them with it
+    with pytest.raises(TypeError, match="made by Python only"):
+        CONTACTS.compiled_constructor()

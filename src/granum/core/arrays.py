@@ -83,4 +83,4 @@ def _scene_fields() -> list[tuple[str, str, int]]:
 #: The record of all scene arrays passed to kernels: body columns (see
 #: :data:`granum.core.bodies.BODY_COLUMNS`), shape tables as ``<kind>_<column>``,
 #: materials, cell, scalars and energies.
-SCENE = RecordSpec("SceneArrays", _scene_fields())
+SCENE = RecordSpec("SceneArrays", _scene_fields(), counted=False)

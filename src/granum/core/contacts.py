@@ -209,7 +209,7 @@ CONTACTS = RecordSpec("ContactArrays", [
     ("pair_ref", "i2", 2), ("pair_hit", "u1", 1),
     ("con_i", "i4", 2),
     ("con_f", "f8", 2), ("csr_start", "i4", 1), ("csr_con", "i4", 1), ("ctr", "i8", 1), ("ended", "f8", 1),
-    ("scratch", "f8", 1)], transient=("scratch",))
+    ("scratch", "f8", 1)], transient=("scratch",), counted=False)
 ContactArrays = CONTACTS.tuple
 
 

@@ -17,6 +17,15 @@ no reference is ever counted. A raw view is valid while its record is alive and
 none of the record's arrays is replaced: stages take it from their own arguments
 (kept alive by their caller) after the last replacement.
 
+**Records that only Python makes.** The scene's and the contacts' records are made by Python
+(:meth:`RecordSpec.to_record`) and held by it while any compiled code runs with them, so
+compiled code need not count references to them at all: their type (:class:`UncountedRecordType`)
+carries the same pointer without telling Numba that it is counted. Numba otherwise counts a
+record in and out of every function that takes it -- two atomic operations per function and
+record, about 100 a step in a two-body scene, three quarters of its step on a 2-core Xeon
+(``benchmarks/README.md``). Compiled code never makes one of them (``compiled_constructor``
+refuses) and never returns one it was given.
+
 Named tuples of arrays are no alternative: Numba passes them by value (every array
 of the scene at every call) and loses writes made through their fields directly in a
 ``prange`` loop body (numba#7135).
@@ -29,9 +38,10 @@ from collections import namedtuple
 import numpy as np
 from numba import types
 from numba.core import cgutils
+from numba.core.pythonapi import NativeValue
 from numba.core.typing.templates import AttributeTemplate
 from numba.experimental import structref
-from numba.extending import infer_getattr, intrinsic, lower_getattr_generic, models, register_model
+from numba.extending import box, infer_getattr, intrinsic, lower_getattr_generic, models, register_model, unbox
 from numba.np import numpy_support
 
 from granum._codegen import load_module
@@ -51,6 +61,48 @@ class Record(structref.StructRefProxy):
 
 
 structref.define_boxing(RecordType, Record)
+
+
+class UncountedRecordType(RecordType):
+    """Numba type of a record that Python makes and holds while compiled code uses it (see the module docstring):
+    the same structure reference as :class:`RecordType`, whose references compiled code does not count."""
+
+
+@register_model(UncountedRecordType)
+class _UncountedRecordModel(models.StructModel):
+    """The structure reference's one member, the memory-info pointer, as a plain pointer: Numba's reference
+    counting finds nothing to count in it."""
+
+    def __init__(self, dmm, fe_type):
+        super().__init__(dmm, fe_type, [("meminfo", types.voidptr)])
+
+
+_MEMINFO = types.MemInfoPointer(types.voidptr)
+
+
+@box(UncountedRecordType)
+def _box_uncounted(typ, val, c):
+    """The Python handle of a record compiled code returns: a new one (``to_record``), whose one reference the
+    handle takes over."""
+    meminfo = structref._Utils(c.context, c.builder, typ).get_struct_ref(val).meminfo
+    boxed_meminfo = c.box(_MEMINFO, meminfo)
+    ctor = c.pyapi.unserialize(c.pyapi.serialize_object(Record._numba_box_))
+    ty = c.pyapi.unserialize(c.pyapi.serialize_object(typ))
+    res = c.pyapi.call_function_objargs(ctor, [ty, boxed_meminfo])
+    for obj in (ctor, ty, boxed_meminfo):
+        c.pyapi.decref(obj)
+    return res
+
+
+@unbox(UncountedRecordType)
+def _unbox_uncounted(typ, obj, c):
+    """The record of a Python handle, borrowed: the reference that unboxing the memory-info takes is given back at
+    once (the caller holds the handle during the call)."""
+    meminfo_obj = c.pyapi.object_getattr_string(obj, "_meminfo")
+    meminfo = c.unbox(_MEMINFO, meminfo_obj).value
+    c.context.nrt.decref(c.builder, _MEMINFO, meminfo)
+    c.pyapi.decref(meminfo_obj)
+    return NativeValue(structref._Utils(c.context, c.builder, typ).new_struct_ref(meminfo)._getvalue())
 
 
 def _borrowed(context, builder, ty, value):
@@ -131,14 +183,19 @@ class RecordSpec:
         transient: fields that hold no state (work areas whose contents a step does not read from the step
             before): checkpoints leave them out, and a record loaded from one gets them as a new record has
             them. The named tuple's class lists them in ``_transient``.
+        counted: False for a record that only Python makes (:meth:`to_record`) and holds while compiled code
+            uses it: its type is an :class:`UncountedRecordType`.
     """
 
-    def __init__(self, name: str, fields: list[tuple[str, str, int]], transient: tuple[str, ...] = ()):
+    def __init__(self, name: str, fields: list[tuple[str, str, int]], transient: tuple[str, ...] = (),
+                 counted: bool = True):
         self.names = [f[0] for f in fields]
         self.tuple = namedtuple(name, self.names)
         self.tuple._transient = frozenset(transient)
-        self.numba_type = RecordType([(n, types.Array(numpy_support.from_dtype(np.dtype(d)), nd, "C"))
-                                      for n, d, nd in fields])
+        self.counted = counted
+        record_type = RecordType if counted else UncountedRecordType
+        self.numba_type = record_type([(n, types.Array(numpy_support.from_dtype(np.dtype(d)), nd, "C"))
+                                       for n, d, nd in fields])
         args = ", ".join(self.names)
         src = [
             f'"""Generated record conversions for {name}; do not edit."""',
@@ -160,6 +217,8 @@ class RecordSpec:
 
     def compiled_constructor(self):
         """The constructor for compiled code: ``make(*arrays)``, a record of the arrays given in field order."""
+        if not self.counted:
+            raise TypeError(f"{self.tuple.__name__} records are made by Python only (uncounted in compiled code)")
         return self._module.to_record
 
     def to_record(self, values) -> Record:
