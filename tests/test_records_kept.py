@@ -8,6 +8,7 @@ from __future__ import annotations
 import gc
 import weakref
 
+import numba
 import numpy as np
 import pytest
 from conftest import factory_in_box, frict_engines
@@ -101,21 +102,39 @@ def test_python_sees_every_array_compiled_code_replaced(yade):
     assert sum(kept[600:]) > 250   # once the factory stops, most steps replace nothing
 
 
+@numba.njit
+def _given_back(record):
+    return record
+
+
 def test_records_compiled_code_does_not_count_stay_held_by_python_alone(yade):
     """The scene's and the contacts' records are uncounted in compiled code (granum.core.records.UncountedRecordType):
     every function that takes them, from the step loop down, leaves their count alone. After runs with contacts
-    that come and go, the collider running again and again and the work area growing, each is still held by one
-    reference, its Python handle's: a count taken and not given back (unboxing) would show as more, one dropped
-    and not taken as fewer (and a freed record). A dropped handle frees the record's arrays at once; compiled code
-    cannot make such a record."""
+    that come and go, the collider running again and again and the work area growing, the two records the last run
+    used (kept by the scene, read before anything could make new ones) are each held by one reference, their Python
+    handles': a count taken and not given back (unboxing) would show as more, one dropped and not taken as fewer
+    (and a freed record). A record that compiled code returns gets a reference of its own; a dropped handle frees
+    the record's arrays at once; compiled code cannot make such a record."""
     O = yade.O
     factory_in_box(yade, height=0.03)
     scene = O._scene
     for _ in range(3):
         O.run(150, True)
-        S, C = scene.arrays(), scene.contacts_record()
+        S, C = scene._record[1], scene._contacts_record[1]   # the run's, not new ones (arrays() may replace them)
         assert (S._meminfo.refcount, C._meminfo.refcount) == (1, 1)
+        del S, C
     assert O.interactions.countReal() > 20 and int(scene.contacts.ctr[C_COLLIDER_RUNS]) > 20
+    O.engines[-1].dead = True   # the factory: no more bodies, so the next run keeps the scene's records
+    O.run(1, True)
+    S, C = scene.arrays(), scene.contacts_record()
+    O.run(20, True)
+    assert S is scene.arrays() and C is scene.contacts_record()
+    assert (S._meminfo.refcount, C._meminfo.refcount) == (1, 1)
+    again = _given_back(C)   # returned to Python: a second handle, with a reference of its own
+    assert again._meminfo.refcount == 2
+    del again
+    assert C._meminfo.refcount == 1
+    del S, C
     arrays = CONTACTS.tuple(*(a.copy() for a in scene.contacts))
     record = CONTACTS.to_record(arrays)
     O.run(1, True)   # compiled code ran meanwhile, with the scene's records

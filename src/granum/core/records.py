@@ -22,9 +22,12 @@ none of the record's arrays is replaced: stages take it from their own arguments
 compiled code need not count references to them at all: their type (:class:`UncountedRecordType`)
 carries the same pointer without telling Numba that it is counted. Numba otherwise counts a
 record in and out of every function that takes it -- two atomic operations per function and
-record, about 100 a step in a two-body scene, three quarters of its step on a 2-core Xeon
-(``benchmarks/README.md``). Compiled code never makes one of them (``compiled_constructor``
-refuses) and never returns one it was given.
+record: 22 increments and as many decrements a step in a two-body scene, where the records and
+the work area's pieces (:mod:`granum.kernels.scratch`) together took three quarters of the step
+on a 2-core Xeon (``benchmarks/README.md``). No compiled code but ``to_record`` makes one
+(``compiled_constructor`` refuses); a record compiled code returns to Python gets a reference of
+its own when boxed, so returning one it was given is safe too (``to_record`` gives back the one
+its new record started with).
 
 Named tuples of arrays are no alternative: Numba passes them by value (every array
 of the scene at every call) and loses writes made through their fields directly in a
@@ -82,9 +85,11 @@ _MEMINFO = types.MemInfoPointer(types.voidptr)
 
 @box(UncountedRecordType)
 def _box_uncounted(typ, val, c):
-    """The Python handle of a record compiled code returns: a new one (``to_record``), whose one reference the
-    handle takes over."""
+    """The Python handle of a record compiled code returns, holding a reference of its own (counted here: the
+    handle takes over the reference it is given, and compiled code owns none); ``to_record``, whose new record
+    starts with one, gives that one back."""
     meminfo = structref._Utils(c.context, c.builder, typ).get_struct_ref(val).meminfo
+    c.context.nrt.incref(c.builder, _MEMINFO, meminfo)
     boxed_meminfo = c.box(_MEMINFO, meminfo)
     ctor = c.pyapi.unserialize(c.pyapi.serialize_object(Record._numba_box_))
     ty = c.pyapi.unserialize(c.pyapi.serialize_object(typ))
@@ -223,7 +228,10 @@ class RecordSpec:
 
     def to_record(self, values) -> Record:
         """A record holding the arrays of the named tuple ``values``."""
-        return call(self._module.to_record, *values)
+        record = call(self._module.to_record, *values)
+        if not self.counted:
+            record._meminfo.release()   # the reference the new record started with (see _box_uncounted)
+        return record
 
     def from_record(self, record: Record):
         """The arrays of ``record`` as a named tuple."""

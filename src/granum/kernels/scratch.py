@@ -17,10 +17,11 @@ needs more, so that it is replaced O(log n) times in a run. It is not state: che
 (:attr:`granum.core.records.RecordSpec.transient`), and a piece holds whatever an earlier stage left
 there, so a stage zeroes what must start at zero. The area and its pieces are *borrowed*
 (:func:`granum.core.records.borrow`): no reference to them is counted, which spares a step two atomic
-operations per piece and per function a piece is passed to (about 50 a step in a two-body scene, where
-each costs 7-9 ns on a 2-core Xeon). So they are valid until the next call of :func:`area`, which may
-replace the array: take the pieces a stage needs after its last call. Take the raw view of the record
-(:func:`granum.core.records.raw`) after :func:`area` too, which may replace one of its arrays.
+operations per piece and per function a piece is passed to (26 increments and as many decrements a step
+in a two-body scene, each 7-9 ns on a 2-core Xeon). So they are valid until the next call of
+:func:`area`, which may replace the array: use no piece after a later :func:`area` call. Take the raw
+view of the record (:func:`granum.core.records.raw`) after :func:`area` too, which may replace one of
+its arrays.
 """
 
 from __future__ import annotations
