@@ -83,12 +83,19 @@ class _UncountedRecordModel(models.StructModel):
 _MEMINFO = types.MemInfoPointer(types.voidptr)
 
 
+def _meminfo_of(context, builder, typ, value):
+    """The memory-info pointer of ``value``, a record of Numba type ``typ`` (the structure reference's one member;
+    read through ``cgutils``' structure proxy, as Numba's extension examples do, not through the private helpers
+    of ``numba.experimental.structref``)."""
+    return cgutils.create_struct_proxy(typ)(context, builder, value=value).meminfo
+
+
 @box(UncountedRecordType)
 def _box_uncounted(typ, val, c):
     """The Python handle of a record compiled code returns, holding a reference of its own (counted here: the
     handle takes over the reference it is given, and compiled code owns none); ``to_record``, whose new record
     starts with one, gives that one back."""
-    meminfo = structref._Utils(c.context, c.builder, typ).get_struct_ref(val).meminfo
+    meminfo = _meminfo_of(c.context, c.builder, typ, val)
     c.context.nrt.incref(c.builder, _MEMINFO, meminfo)
     boxed_meminfo = c.box(_MEMINFO, meminfo)
     ctor = c.pyapi.unserialize(c.pyapi.serialize_object(Record._numba_box_))
@@ -107,7 +114,9 @@ def _unbox_uncounted(typ, obj, c):
     meminfo = c.unbox(_MEMINFO, meminfo_obj).value
     c.context.nrt.decref(c.builder, _MEMINFO, meminfo)
     c.pyapi.decref(meminfo_obj)
-    return NativeValue(structref._Utils(c.context, c.builder, typ).new_struct_ref(meminfo)._getvalue())
+    record = cgutils.create_struct_proxy(typ)(c.context, c.builder)
+    record.meminfo = meminfo
+    return NativeValue(record._getvalue())
 
 
 def _borrowed(context, builder, ty, value):
@@ -173,8 +182,8 @@ def raw(typingctx, record):
         return None
 
     def codegen(context, builder, sig, args):
-        ptr = structref._Utils(context, builder, sig.args[0]).get_data_pointer(args[0])
-        return builder.bitcast(ptr, cgutils.voidptr_t)
+        meminfo = _meminfo_of(context, builder, sig.args[0], args[0])
+        return builder.bitcast(context.nrt.meminfo_data(builder, meminfo), cgutils.voidptr_t)
 
     return RawRecordType(record)(record), codegen
 
