@@ -8,6 +8,7 @@ import os
 import subprocess
 import sys
 import textwrap
+from types import SimpleNamespace
 
 import pytest
 
@@ -207,3 +208,35 @@ def test_cache_directories_in_use_are_not_pruned(tmp_path, monkeypatch):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["old1", "old2", "recent"]
     _jit._prune_old_caches(keep=0)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["recent"]
+
+
+def _part(name):
+    """A stand-in for a compiled entry point: what compile_parts reads of one (its Python function)."""
+    def func():
+        return None
+    func.__name__ = name
+    return SimpleNamespace(py_func=func)
+
+
+def test_the_notice_is_given_only_for_parts_missing_from_the_cache(monkeypatch):
+    """compile_parts calls granum._compile.NOTICE with the count of parts it must compile, and what it returned
+    once they are compiled (also when compiling fails); not at all when every part came from the cache."""
+    from granum import _compile
+
+    events, compiled = [], []
+    monkeypatch.setenv("GRANUM_COMPILE_JOBS", "1")
+    monkeypatch.setattr(_compile, "NOTICE", lambda count: events.append(count) or (lambda: events.append("done")))
+    monkeypatch.setattr(_compile, "compile_each", lambda d, sigs: compiled.append((d, sigs)))
+    a, b = _part("a"), _part("b")
+    _compile.compile_parts([(a, [(1,)]), (b, [(1,), (2,)])], lambda d, sig: True)
+    assert events == [] and compiled == []
+    _compile.compile_parts([(a, [(1,)]), (b, [(1,), (2,)])], lambda d, sig: d is a or sig == (1,))
+    assert events == [1, "done"] and compiled == [(b, [(2,)])]
+
+    def failing(d, sigs):
+        raise RuntimeError("compile failed")
+
+    monkeypatch.setattr(_compile, "compile_each", failing)
+    with pytest.raises(RuntimeError, match="compile failed"):
+        _compile.compile_parts([(a, [(1,)])], lambda d, sig: False)
+    assert events == [1, "done", 1, "done"]

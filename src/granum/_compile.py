@@ -27,6 +27,11 @@ import threading
 import time
 import warnings
 
+#: Called as ``done = NOTICE(count)`` before a first run compiles ``count`` entry points that are not in the disk
+#: cache (a few seconds to half a minute), and ``done()`` once they are compiled; None: nothing is said. Set by
+#: the layer that talks to the user (:mod:`granum.yade.progress`): this module prints nothing itself.
+NOTICE = None
+
 #: A child that has not finished this long after the parent finished its own parts (and at least
 #: :data:`PATIENCE` times as long as the parent took) is taken as stuck: the parent compiles the rest [s].
 MIN_WAIT = 60.0
@@ -88,6 +93,18 @@ def compile_parts(parts: list[tuple[object, list[tuple]]], load_cached) -> None:
     the compile lock (:func:`granum._jit.compile_lock`)."""
     todo = [(d, [s for s in sigs if not load_cached(d, s)]) for d, sigs in parts]
     todo = sorted(((d, s) for d, s in todo if s), key=lambda p: -reach(p[0]))
+    if not todo:
+        return
+    done = NOTICE(len(todo)) if NOTICE is not None else None
+    try:
+        _compile_todo(todo)
+    finally:
+        if done is not None:
+            done()
+
+
+def _compile_todo(todo: list[tuple[object, list[tuple]]]) -> None:
+    """Compile the entry points ``todo`` (none in the disk cache, largest first) as :func:`compile_parts` says."""
     if processes() < 2 or len(todo) < 2 or not _fork_is_safe():
         for d, sigs in todo:
             compile_each(d, sigs)

@@ -1,8 +1,12 @@
-"""The progress bar of a long ``O.run(n, True)`` in a terminal.
+"""The progress bar of a long ``O.run(n, True)`` in a terminal, and the line a first run's compiling prints.
 
-It appears only when the run has lasted a second, when standard error is a terminal, and when the
+The bar appears only when the run has lasted a second, when standard error is a terminal, and when the
 script does not run as a batch job (whose output goes to a log file); ``GRANUM_PROGRESS=0`` turns it
 off. It is redrawn at most five times a second, between compiled chunks, so it costs nothing per step.
+
+Under the same conditions, a run that must compile kernels missing from the disk cache (the first run of an
+engine list: tens of seconds, see ARCHITECTURE.md, "Compilation") says so on one line before the silence, and
+how long it took after it (:func:`compile_notice`, which :mod:`granum._compile` calls).
 """
 
 from __future__ import annotations
@@ -10,6 +14,8 @@ from __future__ import annotations
 import os
 import sys
 import time
+
+from granum import _compile
 
 #: Seconds a run lasts before the bar appears, and between redraws.
 SHOW_AFTER = 1.0
@@ -29,7 +35,9 @@ def progress_wanted(stream) -> bool:
 
 
 class Progress:
-    """Progress of a run of ``total`` steps drawn on ``stream`` (standard error by default)."""
+    """Progress of a run of ``total`` steps drawn on ``stream`` (standard error by default). The rate, and the time
+    left, count from the first update, the end of the run's first chunk: a first run compiles its kernels before
+    that chunk, and those seconds say nothing of the steps' speed."""
 
     def __init__(self, total: int, stream=None):
         self.total = max(int(total), 1)
@@ -37,30 +45,63 @@ class Progress:
         self.start = time.perf_counter()
         self.last_draw = -1.0
         self.shown = False
+        self.first: tuple[int, float] | None = None   # (steps done, time) at the first update
 
     def update(self, done: int) -> None:
         """Steps ``done`` so far; redraws when due."""
         now = time.perf_counter()
+        if self.first is None:
+            self.first = (done, now)
         elapsed = now - self.start
         if elapsed < SHOW_AFTER or now - self.last_draw < REDRAW_EVERY:
             return
         self.last_draw = now
         self.shown = True
-        self.stream.write("\r" + progress_line(done, self.total, elapsed))
+        self.stream.write("\r" + progress_line(done, self.total, elapsed, self.rate(done, now)))
         self.stream.flush()
+
+    def rate(self, done: int, now: float) -> float:
+        """Steps a second since the first update (0 before it, or when none has run since)."""
+        if self.first is None or done <= self.first[0] or now <= self.first[1]:
+            return 0.0
+        return (done - self.first[0]) / (now - self.first[1])
 
     def finish(self, done: int) -> None:
         """End the bar (with the final count) if it was shown."""
         if self.shown:
-            self.stream.write("\r" + progress_line(done, self.total, time.perf_counter() - self.start) + "\n")
+            now = time.perf_counter()
+            self.stream.write("\r" + progress_line(done, self.total, now - self.start, self.rate(done, now)) + "\n")
             self.stream.flush()
 
 
-def progress_line(done: int, total: int, elapsed: float) -> str:
-    """``[#####.....]  50% 500/1000 steps, 2.0 s, 250 steps/s, 2 s left``."""
+def progress_line(done: int, total: int, elapsed: float, rate: float) -> str:
+    """``[#####.....]  50% 500/1000 steps, 2.0 s, 250 steps/s, 2 s left`` (``elapsed`` [s] since the run began,
+    ``rate`` [steps/s]: none shown, nor the time left, when 0)."""
     frac = min(max(done / total, 0.0), 1.0)
     filled = int(round(frac * BAR_WIDTH))
-    rate = done / elapsed if elapsed > 0 else 0.0
+    speed = f", {rate:.3g} steps/s" if rate > 0 else ""
     left = f", {(total - done) / rate:.0f} s left" if rate > 0 and done < total else ""
     return (f"[{'#' * filled}{'.' * (BAR_WIDTH - filled)}] {100 * frac:3.0f}% {done}/{total} steps, "
-            f"{elapsed:.1f} s, {rate:.3g} steps/s{left}  ")
+            f"{elapsed:.1f} s{speed}{left}  ")
+
+
+def compile_notice(count: int, stream=None):
+    """Called by :mod:`granum._compile` (its ``NOTICE``) before it compiles ``count`` entry points missing from the
+    disk cache: writes a line on ``stream`` (standard error) when :func:`progress_wanted`, and returns the function
+    that ends it with the seconds taken; None (nothing written) otherwise."""
+    stream = stream if stream is not None else sys.stderr
+    if not progress_wanted(stream):
+        return None
+    start = time.perf_counter()
+    stream.write(f"granum: compiling the kernels of this engine list ({count} parts), once: later runs load them "
+                 "from the cache ...")
+    stream.flush()
+
+    def done() -> None:
+        stream.write(f" {time.perf_counter() - start:.1f} s\n")
+        stream.flush()
+
+    return done
+
+
+_compile.NOTICE = compile_notice

@@ -1,0 +1,53 @@
+"""What a run in a terminal says: the line of a first run's compiling, the progress bar's rate."""
+
+from __future__ import annotations
+
+import io
+import re
+from types import SimpleNamespace
+
+import pytest
+
+from granum.yade import progress
+from granum.yade.progress import Progress, compile_notice
+
+
+class _Terminal(io.StringIO):
+    def isatty(self):
+        return True
+
+
+@pytest.fixture
+def terminal_wanted(monkeypatch):
+    for name in ("YADE_BATCH", "PARAM_TABLE", "GRANUM_PROGRESS"):
+        monkeypatch.delenv(name, raising=False)
+
+
+def test_a_first_run_says_that_it_compiles_in_a_terminal_only(monkeypatch, terminal_wanted):
+    """The line a first run writes before compiling (granum.yade.progress.compile_notice), ended by the time taken;
+    nothing on a stream that is not a terminal, in a batch job, or with GRANUM_PROGRESS=0."""
+    terminal = _Terminal()
+    done = compile_notice(5, terminal)
+    assert terminal.getvalue().startswith("granum: compiling the kernels of this engine list (5 parts)")
+    assert not terminal.getvalue().endswith("\n")
+    done()
+    assert re.search(r" \d+\.\d s\n$", terminal.getvalue())
+    pipe = io.StringIO()
+    assert compile_notice(5, pipe) is None and pipe.getvalue() == ""
+    monkeypatch.setenv("GRANUM_PROGRESS", "0")
+    assert compile_notice(5, terminal := _Terminal()) is None and terminal.getvalue() == ""
+
+
+def test_the_bars_rate_leaves_out_the_first_chunks_compiling(monkeypatch, terminal_wanted):
+    """A first run's first chunk (one step) lasts as long as its compiling: the rate and the time left count from
+    the end of it, the elapsed time from the start."""
+    clock = iter([0.0, 40.0, 41.0, 42.0])   # start; the first chunk ends after 40 s of compiling; two more updates
+    monkeypatch.setattr(progress, "time", SimpleNamespace(perf_counter=lambda: next(clock)))
+    terminal = _Terminal()
+    bar = Progress(3001, terminal)
+    bar.update(1)
+    bar.update(1001)
+    assert terminal.getvalue().endswith("1001/3001 steps, 41.0 s, 1e+03 steps/s, 2 s left  ")
+    bar.finish(3001)
+    assert terminal.getvalue().endswith("3001/3001 steps, 42.0 s, 1.5e+03 steps/s  \n")
+
