@@ -220,7 +220,8 @@ def _part(name):
 
 def test_the_notice_is_given_only_for_parts_missing_from_the_cache(monkeypatch):
     """compile_parts calls granum._compile.NOTICE with the count of parts it must compile, and what it returned
-    once they are compiled (also when compiling fails); not at all when every part came from the cache."""
+    once they are compiled (also when compiling fails), or at the end of the enclosing ``announced`` block; not at
+    all when every part came from the cache."""
     from granum import _compile
 
     events, compiled = [], []
@@ -240,3 +241,12 @@ def test_the_notice_is_given_only_for_parts_missing_from_the_cache(monkeypatch):
     with pytest.raises(RuntimeError, match="compile failed"):
         _compile.compile_parts([(a, [(1,)])], lambda d, sig: False)
     assert events == [1, "done", 1, "done"]
+
+    # inside an announced block (a step loop: its stages, then the loop) the line ends with the block
+    monkeypatch.setattr(_compile, "compile_each", lambda d, sigs: compiled.append((d, sigs)))
+    events.clear()
+    with _compile.announced():
+        _compile.compile_parts([(a, [(1,)])], lambda d, sig: False)
+        assert events == [1]
+        events.append("loop compiled")
+    assert events == [1, "loop compiled", "done"]

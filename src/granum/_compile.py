@@ -19,6 +19,7 @@ no other thread runs Python, and can be switched off with ``GRANUM_COMPILE_JOBS=
 
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 import sys
@@ -31,6 +32,9 @@ import warnings
 #: cache (a few seconds to half a minute), and ``done()`` once they are compiled; None: nothing is said. Set by
 #: the layer that talks to the user (:mod:`granum.yade.progress`): this module prints nothing itself.
 NOTICE = None
+
+#: Per thread, the ends of the compilings announced inside the innermost :func:`announced` block (None: none open).
+_held = threading.local()
 
 #: A child that has not finished this long after the parent finished its own parts (and at least
 #: :data:`PATIENCE` times as long as the parent took) is taken as stuck: the parent compiles the rest [s].
@@ -96,10 +100,28 @@ def compile_parts(parts: list[tuple[object, list[tuple]]], load_cached) -> None:
     if not todo:
         return
     done = NOTICE(len(todo)) if NOTICE is not None else None
+    held = getattr(_held, "ends", None)
+    if done is not None and held is not None:   # the enclosing block ends the line
+        held.append(done)
+        done = None
     try:
         _compile_todo(todo)
     finally:
         if done is not None:
+            done()
+
+
+@contextlib.contextmanager
+def announced():
+    """A block whose compiling is announced as one: the line :func:`compile_parts` begins ends with the block, not
+    with the parts (a step loop: its stages, then the loop that calls them, which links them)."""
+    outer = getattr(_held, "ends", None)
+    _held.ends = []
+    try:
+        yield
+    finally:
+        ends, _held.ends = _held.ends, outer
+        for done in ends:
             done()
 
 

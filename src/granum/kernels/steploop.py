@@ -37,6 +37,7 @@ import importlib
 import time
 
 from granum._codegen import import_line, load_module
+from granum._compile import announced
 from granum._jit import PLAIN, call, entry, entry_points, jit, serial_variant
 from granum.core.arrays import S_TIME, SI_HOOK
 from granum.core.contacts import C_STATUS
@@ -142,11 +143,12 @@ def loop(segments: list[list[str]], args: tuple, serial: frozenset = frozenset()
     calls: dict = {step_begin: [(S,)], step_end: [(S,)]}
     for stage, P in zip(stages, PP, strict=True):
         calls.setdefault(stage, []).append((S, C, P))
-    symbols = entry_points(list(calls.items()))
-    if PLAIN:
-        entries = [entry(f, S, C, P) for f, P in zip(stages, PP, strict=True)]
-        return PlainLoop([len(seg) for seg in segments], entries, entry(step_begin, S), entry(step_end, S))
-    return entry(load(segments, symbols, serial).run_steps, *args)
+    with announced():   # the stages compiled, then the loop: one line in a terminal (granum.yade.progress)
+        symbols = entry_points(list(calls.items()))
+        if PLAIN:
+            entries = [entry(f, S, C, P) for f, P in zip(stages, PP, strict=True)]
+            return PlainLoop([len(seg) for seg in segments], entries, entry(step_begin, S), entry(step_end, S))
+        return entry(load(segments, symbols, serial).run_steps, *args)
 
 
 @jit

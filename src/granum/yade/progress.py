@@ -108,8 +108,9 @@ def compile_notice(count: int, stream=None):
         return None
     start = time.perf_counter()
     below = "\n" if _on_screen["bar"] is not None else ""
-    _say(stream, f"{below}granum: compiling the kernels of this engine list ({count} parts), once: later runs load "
-                 "them from the cache ...")
+    parts = f"{count} part" + ("s" if count != 1 else "")
+    _say(stream, f"{below}granum: compiling the kernels of this engine list ({parts}), once: later runs load them "
+                 "from the cache ...")
 
     def done() -> None:
         seconds = time.perf_counter() - start
