@@ -580,7 +580,7 @@ def test_bodies_appended_between_runs_interact(yade):
 def test_pair_budgets_are_rounded_down_to_float32():
     """A stored budget (float32) never exceeds the separation it was computed from, and loses
     at most one float32 step."""
-    from granum.kernels.interaction import budget_f32
+    from granum.kernels.motion import budget_f32
 
     rng = np.random.default_rng(7)
     xs = np.concatenate([rng.uniform(0, 1e-2, 500), rng.uniform(-1e-3, 1e-3, 100), 10.0 ** rng.uniform(-30, 3, 400),

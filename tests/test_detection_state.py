@@ -136,6 +136,32 @@ def _dropped_cluster(yade) -> int:
     return len(ids)
 
 
+def test_budgets_carried_over_collider_runs_miss_no_touching_pair(yade):
+    """The dropped cluster from its impact on: the collider runs because spheres left their bounds, and the pairs it
+    finds again keep their budgets, measured from the present (granum.kernels.motion.carry_budgets). At every step
+    every two spheres that overlap when the step begins are in contact after it, and every sphere reaching
+    through the floor touches one of its facets: no carried budget let a touching pair go unevaluated."""
+    O = yade.O
+    n = _dropped_cluster(yade)
+    floor = [b.id for b in O.bodies if isinstance(b.shape, yade.Facet) and  # the box's bottom, y = 0.43 - 0.3
+             max(abs(b.state.pos[1] + v[1] - 0.13) for v in b.shape.vertices) < 1e-9]
+    assert len(floor) == 2
+    O.run(620, True)   # just before the impact
+    runs = O.engines[1].numAction
+    checked = through = 0
+    radius = np.array([O.bodies[i].shape.radius for i in range(n)])
+    for _ in range(400):
+        touching = _touching_sphere_pairs(O, n)
+        low = set(np.flatnonzero(O._scene.bodies.pos[:n, 1] - radius < 0.13).tolist())
+        O.step()
+        pairs = set(_contacts(O))
+        checked += len(touching)
+        through += len(low)
+        assert touching <= pairs
+        assert low <= {a for a, b in pairs if b in floor} | {b for a, b in pairs if a in floor}
+    assert checked > 1000 and through > 50 and O.engines[1].numAction - runs >= 3
+
+
 DROPPED_CLUSTER = """
 import numpy
 import granum.yade as yade

@@ -107,6 +107,37 @@ def test_prefetching_gather_gives_the_same_forces(yade):
         assert (f.view(np.int64) == force.view(np.int64)).all() and (t.view(np.int64) == torque.view(np.int64)).all()
 
 
+def test_a_collider_run_carries_the_budgets_of_the_pairs_it_finds_again(yade):
+    """granum.kernels.motion.carry_budgets: each new pair (both lists sorted by (id1, id2)) that the old list had
+    gets its old budget, unless one of its bodies turns (a facet: it gets -inf, as every new pair), whatever the
+    blocks the new list falls into; serial and parallel alike."""
+    from granum._jit import call
+    from granum.kernels.motion import carry_budgets, carry_budgets_par
+
+    O = yade.O
+    nb = 1200
+    O.bodies.append([yade.sphere((3 * i, 0, 0), 1) for i in range(nb - 2)])
+    O.bodies.append([yade.facet([(0, 0, 0), (1, 0, 0), (0, 1, 0)]) for _ in range(2)])
+    turning = {nb - 2, nb - 1}
+    S = O._scene.arrays()
+    rng = np.random.default_rng(4)
+    every = [(i, j) for i in range(0, nb, 7) for j in range(i + 1, nb, 37)] + [(i, nb - 1) for i in range(0, nb, 5)]
+    every = sorted(set(every))
+    old = sorted(e for e in every if rng.random() < 0.6)
+    new = sorted(e for e in every if rng.random() < 0.6)
+    assert len(new) > 3 * 512   # several blocks
+    old_gap = rng.uniform(-0.01, 0.05, len(old)).astype(np.float32)
+    old_gap[::11], old_gap[5::11] = np.inf, -np.inf
+    budget = dict(zip(old, old_gap.tolist(), strict=True))
+    expected = np.array([budget.get(e, -np.inf) if not turning & set(e) else -np.inf for e in new], np.float32)
+    assert np.isfinite(expected).sum() > 500 and (expected == -np.inf).sum() > 500
+    old_ids = np.array(old + [(0, 0)] * 9, np.int32)   # room past the old count, as a pair list may have
+    for kernel in (carry_budgets, carry_budgets_par):
+        gap = np.full(len(new), -np.inf, np.float32)
+        call(kernel, S, old_ids, len(old), old_gap, np.array(new, np.int32), gap)
+        assert np.array_equal(gap, expected)
+
+
 def test_rotation_quaternion_is_sine_and_cosine():
     """quat_from_rotvec(r) = (cos(|r|/2), r sin(|r|/2)/|r|) to rounding, on both sides of the 0.1 rad below
     which it sums Taylor series (reference in extended precision)."""
@@ -159,7 +190,7 @@ def test_motion_bound_exceeds_every_pairs_motion(yade):
     budget holds the allowance T; infinite when a displacement is not finite."""
     from granum._jit import call
     from granum.core.arrays import S_TURN_ALLOWANCE, S_TURN_SEEN
-    from granum.kernels.interaction import motion_bound, quick_bound
+    from granum.kernels.motion import motion_bound, quick_bound
 
     yade.O.bodies.append(yade.sphere((0, 0, 0), 1))
     scene = yade.O._scene
@@ -328,11 +359,11 @@ def test_spheres_left_counts_what_the_per_body_test_finds():
 
 
 def test_sphere_motions_are_the_displacements_and_their_box():
-    """The detection's motions of a block of live bounded spheres (granum.kernels.interaction.sphere_motions):
+    """The detection's motions of a block of live bounded spheres (granum.kernels.motion.sphere_motions):
     each row the centre's displacement since its bound less the detection's shift, and a zero rotation term, the
     block's spread the least and greatest of these per axis, computed here in NumPy; an infinite or NaN
     displacement makes the rotation entry infinite (no bound), and rows outside the block are left alone."""
-    from granum.kernels.interaction import sphere_motions
+    from granum.kernels.motion import sphere_motions
 
     rng = np.random.default_rng(14)
     n = 700
@@ -356,14 +387,14 @@ def test_sphere_motions_are_the_displacements_and_their_box():
 
 
 def test_a_moved_origin_keeps_each_pair_s_condition(yade):
-    """The detection's re-origin (granum.kernels.interaction.reorigin_pair_block): a pair with a finite budget g and
+    """The detection's re-origin (granum.kernels.motion.reorigin_pair_block): a pair with a finite budget g and
     reference u ref gets a zero reference and the budget g' = g + |u ref| - |D - u ref| (D: its bodies' relative
     displacement now), rounded down, so that whatever moves the bodies next (D'), |D' - D| < g' implies the old
     condition |D' - u ref| < g + |u ref|; infinite budgets and their references stay."""
     from granum._jit import call
     from granum.core.arrays import S_PAIR_REF_UNIT
     from granum.core.contacts import C_PAIRS
-    from granum.kernels.interaction import reorigin_pair_block
+    from granum.kernels.motion import reorigin_pair_block
 
     yade.O.bodies.append(yade.sphere((0, 0, 0), 1))
     scene = yade.O._scene

@@ -84,7 +84,7 @@ BODY_COLUMNS = (
     Column("bound_ori", (4,), "f8", (1.0, 0.0, 0.0, 0.0), "Orientation when the bound was last computed, (N, 4)."),
     Column("detect_shift", (3,), "f8", 0.0,
            "Displacement since the bound (pos - bound_pos) at the detection's last re-origin "
-           "(granum.kernels.interaction.reorigin), from which the interaction loop's detection measures motions; "
+           "(granum.kernels.motion.reorigin), from which the interaction loop's detection measures motions; "
            "0 when the bound is computed [m], (N, 3)."),
 )
 

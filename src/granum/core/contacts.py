@@ -22,7 +22,7 @@ potential pairs are never real, so granum keeps them apart:
     passes over it on that alone.
 ``pair_ref``  (P, 3) int16
     Relative displacement d_a - d_b of the pair's bodies since the collider ran (less the detection's shift,
-    ``detect_shift``, which :func:`granum.kernels.interaction.reorigin` moves), taken when its budget was
+    ``detect_shift``, which :func:`granum.kernels.motion.reorigin` moves), taken when its budget was
     set, in units of ``scal[S_PAIR_REF_UNIT]`` (rounded; the rounding is taken from the budget): the motion
     the budget is compared with is measured from there (see :func:`granum.kernels.interaction.detect_block`).
 ``pair_hit``  (P,) uint8

@@ -56,6 +56,7 @@ from granum.kernels.bounds import any_body_moved, bounds_overlap, compute_bounds
 from granum.kernels.collider_append import append_bodies
 from granum.kernels.collider_periodic import find_pairs_periodic
 from granum.kernels.copy import copy_rows
+from granum.kernels.motion import budgets_from_now, carry_budgets, carry_budgets_par
 from granum.kernels.pairing import may_collide, scratch_width
 from granum.kernels.schedule import block_queue, next_block, queue_workers
 from granum.kernels.scratch import area, take_u1, words_u1
@@ -638,6 +639,16 @@ def collider_stage(S, C, P):
     if C.ctr[C_COLLIDE] == 0 and not any_body_moved(R, nb, flags) and not (
             periodic and cell_moved(S, S.scal[S_VERLET])):
         return
+    pairs_before = C.ctr[C_PAIRS]
+    # a run because bodies moved, not a scene edit: the pairs found again keep their budgets, measured from the
+    # present, where the bounds are taken now (granum.kernels.motion.carry_budgets; before the reference unit
+    # changes); in periodic cells the images' budgets move with the cell: evaluated again
+    carry = C.ctr[C_COLLIDE] == 0 and not periodic and pairs_before > 0
+    if carry:
+        budgets_from_now(R, C, nb)
+        old_ids, old_gap = C.pair_ids, C.pair_gap
+    else:
+        old_ids, old_gap = np.zeros((0, 2), np.int32), np.zeros(0, np.float32)
     verlet = P.verlet_dist
     if verlet < 0.0:
         rmin = math.inf
@@ -652,8 +663,8 @@ def collider_stage(S, C, P):
     # (see granum.kernels.interaction.detect_block)
     S.scal[S_TURN_ALLOWANCE] = S.scal[S_TURN_SEEN]
     S.scal[S_TURN_SEEN] = 0.0
-    pairs_before = C.ctr[C_PAIRS]
-    # drop the old pair list first: at a million bodies it takes hundreds of MB (relink needs only the contacts)
+    # drop the rest of the old pair list first: at a million bodies it takes hundreds of MB (relink needs only
+    # the contacts)
     C.ctr[C_PAIRS] = 0
     C.pair_ids = np.zeros((0, 2), np.int32)
     C.pair_cell = np.zeros((0, 3), np.int32)
@@ -680,6 +691,12 @@ def collider_stage(S, C, P):
     n = pairs.shape[0]
     pair_con = np.full(n, -1, np.int32)
     pair_gap = np.full(n, -np.inf, np.float32)
+    if carry and n > 0:
+        if n < PARALLEL_THRESHOLD:
+            carry_budgets(R, old_ids, pairs_before, old_gap, pairs, pair_gap)
+        else:
+            carry_budgets_par(R, old_ids, pairs_before, old_gap, pairs, pair_gap)
+    old_ids, old_gap = np.zeros((0, 2), np.int32), np.zeros(0, np.float32)   # freed before the rest is made
     if C.ctr[C_CONTACTS] < PARALLEL_THRESHOLD:
         relink(raw(C), pairs, start, cells, pair_con, pair_gap)
     else:

@@ -42,7 +42,8 @@ from granum.core.arrays import S_DT, S_VERLET, SI_ITER, SI_NBODIES
 from granum.core.bodies import DOF_ALL
 from granum.core.contacts import C_CONTACTS, C_CSR_DIRTY, C_PAIRS, F_KN, F_KS, FLAG_ALIVE, FLAG_NEW, I_FLAGS
 from granum.core.shapes import ShapeKind
-from granum.kernels.interaction import budget_f32, build_csr
+from granum.kernels.interaction import build_csr
+from granum.kernels.motion import budget_f32
 
 # slots of the controller's state array ``out`` (all floats)
 T_STRESS = 0          # 0..5 stress on each wall, s_w [Pa]
