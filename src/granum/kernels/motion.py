@@ -35,14 +35,21 @@ def reference_length(pair_ref, p, unit):
     return math.sqrt(x * x + y * y + z * z)
 
 
+#: 2**-23 and the least positive float32 (2**-149): :func:`budget_f32`'s step down
+F32_STEP = 1.1920928955078125e-07
+F32_TINY = 1.401298464324817e-45
+
+
 @jit(inline="always")  # per evaluated pair: no call
 def budget_f32(x):
     """``x`` rounded down to float32, the type of ``pair_gap`` (a budget may be smaller than the true
-    one, never larger: a pair that could touch is always evaluated)."""
+    one, never larger: a pair that could touch is always evaluated). When rounding to nearest went up, the value
+    rounded is y = x - 2**-23 |x| - 2**-149, whose rounding (at most 2**-24 |y| + 2**-150 away) stays below x:
+    at most three float32 steps below x. ``np.nextafter`` would give the step just below, but through a call
+    of the C library that kept the re-origin's loop over pairs scalar: 22 -> 9 ns a pair, stand-alone."""
     g = np.float32(x)
-    if g > x:
-        g = np.nextafter(g, np.float32(-np.inf))
-    return g
+    below = np.float32(x - abs(x) * F32_STEP - F32_TINY)
+    return below if g > x else g
 
 
 @jit
