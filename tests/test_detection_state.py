@@ -148,18 +148,56 @@ def test_budgets_carried_over_collider_runs_miss_no_touching_pair(yade):
     assert len(floor) == 2
     O.run(620, True)   # just before the impact
     runs = O.engines[1].numAction
-    checked = through = 0
+    checked = through = carried = 0
     radius = np.array([O.bodies[i].shape.radius for i in range(n)])
     for _ in range(400):
         touching = _touching_sphere_pairs(O, n)
-        low = set(np.flatnonzero(O._scene.bodies.pos[:n, 1] - radius < 0.13).tolist())
+        pos = O._scene.bodies.pos[:n].copy()
+        low = set(np.flatnonzero(pos[:, 1] - radius < 0.13).tolist())
+        before = O.engines[1].numAction
         O.step()
         pairs = set(_contacts(O))
         checked += len(touching)
         through += len(low)
         assert touching <= pairs
         assert low <= {a for a, b in pairs if b in floor} | {b for a, b in pairs if a in floor}
+        if O.engines[1].numAction > before:
+            carried += _carried_budgets(O._scene.contacts, pos, radius)
     assert checked > 1000 and through > 50 and O.engines[1].numAction - runs >= 3
+    assert carried > 100
+
+
+def _carried_budgets(C, pos, radius) -> int:
+    """How many sphere pairs without a contact have, after a step whose collider ran, a budget below their
+    separation when the step began: carried over the run. A pair evaluated in that step (every pair, without
+    carrying) has its separation then, less the float32 rounding: the collider ran before the detection, and the
+    motions since are zero."""
+    m = int(C.ctr[C_PAIRS])
+    ids, gap = C.pair_ids[:m], C.pair_gap[:m].astype(float)
+    spheres = (ids < len(pos)).all(axis=1) & (C.pair_con[:m] < 0) & np.isfinite(gap)
+    i, j = ids[spheres, 0], ids[spheres, 1]
+    sep = np.linalg.norm(pos[j] - pos[i], axis=1) - radius[i] - radius[j]
+    return int((gap[spheres] < sep - 1e-7).sum())
+
+
+def test_a_wall_turned_to_a_sphere_on_its_ignored_side_touches_it_at_the_next_step(yade):
+    """A sphere overlapping a wall from the side the wall ignores (sense +1, the sphere below) has no contact, and
+    the detection's budget of the pair holds the distance to the plane; ``sense = 0`` (both sides) makes the pair
+    touch, so the scene must bound and pair again (a collider run that carries budgets over would keep the old
+    one): the contact exists after the next step."""
+    O = yade.O
+    O.bodies.append(yade.utils.wall(0, axis=2, sense=1))
+    O.bodies.append(yade.sphere((0, 0, -0.5), 1, fixed=True))
+    O.bodies.append(yade.sphere((5, 0, 3), 1))   # moves: the collider runs because bodies moved
+    O.bodies[2].state.vel = (0, 0, 30)
+    O.engines = frict_engines(yade, gravity=(0, 0, 0))
+    O.dt = 1e-3
+    O.run(100, True)
+    assert O.engines[1].numAction > 2
+    assert not _contacts(O)
+    O.bodies[0].shape.sense = 0
+    O.step()
+    assert _contacts(O) == [(0, 1)]
 
 
 DROPPED_CLUSTER = """

@@ -123,15 +123,18 @@ def test_a_collider_run_carries_the_budgets_of_the_pairs_it_finds_again(yade):
     rng = np.random.default_rng(4)
     every = [(i, j) for i in range(0, nb, 7) for j in range(i + 1, nb, 37)] + [(i, nb - 1) for i in range(0, nb, 5)]
     every = sorted(set(every))
-    old = sorted(e for e in every if rng.random() < 0.6)
     new = sorted(e for e in every if rng.random() < 0.6)
+    last = max(e for e in new if not turning & set(e))
+    old = sorted(e for e in every if rng.random() < 0.6 and e < last)   # `last`, a new pair, after every old one
     assert len(new) > 3 * 512   # several blocks
     old_gap = rng.uniform(-0.01, 0.05, len(old)).astype(np.float32)
     old_gap[::11], old_gap[5::11] = np.inf, -np.inf
-    budget = dict(zip(old, old_gap.tolist(), strict=True))
+    old_gap = np.concatenate([old_gap, np.full(9, 0.5, np.float32)])   # the rows past the count: never read
+    budget = dict(zip(old, old_gap[:len(old)].tolist(), strict=True))
     expected = np.array([budget.get(e, -np.inf) if not turning & set(e) else -np.inf for e in new], np.float32)
     assert np.isfinite(expected).sum() > 500 and (expected == -np.inf).sum() > 500
-    old_ids = np.array(old + [(0, 0)] * 9, np.int32)   # room past the old count, as a pair list may have
+    # room past the old count, as a pair list may have, holding `last`: a walk past the count would find it there
+    old_ids = np.array(old + [last] * 9, np.int32)
     for kernel in (carry_budgets, carry_budgets_par):
         gap = np.full(len(new), -np.inf, np.float32)
         call(kernel, S, old_ids, len(old), old_gap, np.array(new, np.int32), gap)

@@ -249,7 +249,8 @@ class Scene(BodyStore):
 
     def detection_uses(self, functors: bytes) -> None:
         """The interaction loop detects contacts with the geometry functors and parameters ``functors``
-        (their bytes); if they changed, the collider runs again, which drops every pair's budget."""
+        (their bytes); if they changed, the collider runs again, which drops every pair's budget (a full run, after
+        an edit, carries none over)."""
         key = hashlib.blake2b(functors, digest_size=16).hexdigest()
         if key != self.detection_key:
             self.detection_key = key

@@ -35,20 +35,22 @@ def reference_length(pair_ref, p, unit):
     return math.sqrt(x * x + y * y + z * z)
 
 
-#: 2**-23 and the least positive float32 (2**-149): :func:`budget_f32`'s step down
+#: 2**-23, the least positive float32 (2**-149) and the greatest (FLT_MAX): :func:`budget_f32`'s step down
 F32_STEP = 1.1920928955078125e-07
 F32_TINY = 1.401298464324817e-45
+F32_MAX = 3.4028234663852886e38
 
 
 @jit(inline="always")  # per evaluated pair: no call
 def budget_f32(x):
     """``x`` rounded down to float32, the type of ``pair_gap`` (a budget may be smaller than the true
     one, never larger: a pair that could touch is always evaluated). When rounding to nearest went up, the value
-    rounded is y = x - 2**-23 |x| - 2**-149, whose rounding (at most 2**-24 |y| + 2**-150 away) stays below x:
-    at most three float32 steps below x. ``np.nextafter`` would give the step just below, but through a call
-    of the C library that kept the re-origin's loop over pairs scalar: 22 -> 9 ns a pair, stand-alone."""
+    rounded is y = x - 2**-23 |x| - 2**-149 (FLT_MAX at most: above it float32 is +inf), whose rounding (at most
+    2**-24 |y| + 2**-150 away) stays below x: at most three float32 steps below x. ``np.nextafter`` would give the
+    step just below, but through a call of the C library that kept the re-origin's loop over pairs scalar: 22 -> 9
+    ns a pair, stand-alone."""
     g = np.float32(x)
-    below = np.float32(x - abs(x) * F32_STEP - F32_TINY)
+    below = np.float32(min(x - abs(x) * F32_STEP - F32_TINY, F32_MAX))
     return below if g > x else g
 
 
@@ -314,8 +316,9 @@ def _carry_budgets(S, old_ids, nold, old_gap, pairs, gap):
 #: ``carry_budgets(S, old_ids, nold, old_gap, pairs, gap)``: the budgets ``gap`` (P,) float32 of the collider's new
 #: pairs ``pairs`` (P, 2), which the old list of ``nold`` pairs ``old_ids`` had, with their budgets ``old_gap``
 #: measured from the present (:func:`budgets_from_now`): the bounds of the run are taken where the bodies are now,
-#: the origin of the new motions, so such a budget holds as it is. Pairs of a body that turns are left at -inf
-#: (evaluated at the next detection): the run also moves the orientations their rotation terms are measured from.
+#: the origin of the new motions, so such a budget holds as it is. Pairs of a body whose shape has a reach
+#: (``body_reach`` > 0: a facet, a box, a clump, which may turn) keep what ``gap`` held (the caller's -inf: evaluated at
+#: the next detection): the run also moves the orientations their rotation terms are measured from.
 #: Both lists are sorted by (id1, id2). The pairs found again keep their budgets and are not evaluated all at once
 #: after the run (the falling ball's 44,000 pairs at each of its 19 runs).
 carry_budgets, carry_budgets_par = kernel(_carry_budgets, over="pairs")

@@ -694,6 +694,7 @@ class Wall(Shape):
         self._check("sense", value)
         t, row = self._table()
         t.sense[row] = value
+        self._body._touch()   # the sides it acts on: the detection's budgets measured the old ones
 
 
 class Box(Shape):
