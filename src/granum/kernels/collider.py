@@ -57,7 +57,7 @@ from granum.kernels.collider_append import append_bodies
 from granum.kernels.collider_periodic import find_pairs_periodic
 from granum.kernels.copy import copy_rows
 from granum.kernels.motion import budgets_from_now, carry_budgets, carry_budgets_par
-from granum.kernels.pairing import may_collide, scratch_width
+from granum.kernels.pairing import masks_may_refuse, may_collide, scratch_width
 from granum.kernels.schedule import block_queue, next_block, queue_workers
 from granum.kernels.scratch import area, take_u1, words_u1
 from granum.kernels.sorting import argsort_keys, lower_bound, median
@@ -97,12 +97,13 @@ def cell_run(first, last, keys_sorted, dense_start):
 #: - ``large`` (large,) int32: every body with a bound that is not small, in id order;
 #: - ``large_order`` int32: the binned large bodies, once per cell covered, by cell key then id; ``large_keys``
 #:   int64: their cell keys; ``large_dense`` (cells + 1,) int64 or (0,): start of each cell in ``large_order``;
-#: - ``rest`` int32: large bodies tested against all bodies, in id order.
+#: - ``rest`` int32: large bodies tested against all bodies, in id order;
+#: - ``filtered`` (1,) bool: whether the masks or clumps may refuse a pair (:func:`masks_may_refuse`).
 GRID = RecordSpec("BodyGrid", [
     ("small", "b1", 1), ("cell", "i8", 2), ("dims", "i8", 1), ("lo", "f8", 1), ("h", "f8", 1),
     ("order", "i4", 1), ("keys_sorted", "i8", 1), ("box", "f8", 2), ("dense_start", "i8", 1),
     ("large", "i4", 1), ("large_order", "i4", 1), ("large_keys", "i8", 1), ("large_dense", "i8", 1),
-    ("rest", "i4", 1)])
+    ("rest", "i4", 1), ("filtered", "b1", 1)])
 body_grid = GRID.compiled_constructor()
 
 
@@ -139,7 +140,15 @@ def add_partner(j, n, base, cap, out):
 def small_in_cells(i, S, grid, avoid_self, first, last, n, base, cap, out):
     """Partners j > i of body ``i`` among the small bodies binned in the cells ``first`` to ``last`` (cell
     indices per axis, clipped to the grid). The cells of one (x, y) column are consecutive keys: one run
-    of ``order`` each."""
+    of ``order`` each, sorted by the lower z of the bounds: it is read from the first body that may reach up to
+    ``i`` to the first that starts above it.
+
+    Each candidate is tested without a branch and written at the next free slot whether it passes or not (the
+    count advances when it does): which candidates pass is as good as random, and the mispredicted branches cost
+    most of the search (the falling ball's 4,428 bodies, 47.8 candidates each: 11 ns a candidate before). So
+    ``out`` holds a spare slot after the ``cap`` kept: past ``cap`` partners the candidates go there, and the
+    count stays exact (:func:`write_block` searches such a body again). The masks and clumps are read only
+    where the grid says that some pair may be refused by them (``filtered``)."""
     dims = grid.dims
     lo0, lo1, lo2 = S.bound_min[i, 0], S.bound_min[i, 1], S.bound_min[i, 2]
     hi0, hi1, hi2 = S.bound_max[i, 0], S.bound_max[i, 1], S.bound_max[i, 2]
@@ -148,17 +157,28 @@ def small_in_cells(i, S, grid, avoid_self, first, last, n, base, cap, out):
     if z0 > z1:
         return n
     box = grid.box
+    order = grid.order
+    filtered = grid.filtered[0]
+    # a binned bound is at most h tall: one whose lower z is below lo2 - h ends below lo2 (the margin covers the
+    # rounding of both differences)
+    h = grid.h[0]
+    below = lo2 - h - 1e-9 * (abs(lo2) + h)
     for cx in range(max(first[0], 0), min(last[0], dims[0] - 1) + 1):
         for cy in range(max(first[1], 0), min(last[1], dims[1] - 1) + 1):
             column = (cx * dims[1] + cy) * dims[2]
             a, b = cell_run(column + z0, column + z1, grid.keys_sorted, grid.dense_start)
+            while a < b and box[a, 2] < below:
+                a += 1
             for t in range(a, b):
                 if box[t, 2] > hi2:
                     break  # the run is sorted by the bounds' lower z: no later body reaches down to i
-                j = grid.order[t]
-                if j > i and box[t, 0] <= hi0 and box[t, 3] >= lo0 and box[t, 1] <= hi1 and box[t, 4] >= lo1 \
-                        and box[t, 5] >= lo2 and may_collide(S, i, j, avoid_self):
-                    n = add_partner(j, n, base, cap, out)
+                j = order[t]
+                hit = (j > i) & (box[t, 0] <= hi0) & (box[t, 3] >= lo0) & (box[t, 1] <= hi1) & \
+                    (box[t, 4] >= lo1) & (box[t, 5] >= lo2)
+                if filtered:  # the same for every candidate: predicted
+                    hit &= may_collide(S, i, j, avoid_self)
+                out[base + min(n, cap)] = j
+                n += hit
     return n
 
 
@@ -194,6 +214,8 @@ def small_partners(i, S, grid, avoid_self, base, cap, out):
                         if cx == max(x0, u0) and cy == max(y0, v0) and cz == max(z0, w0) and \
                                 may_collide(S, i, j, avoid_self):
                             n = add_partner(j, n, base, cap, out)
+    if grid.rest.shape[0] == 0:  # often: no call (passing the array costs two reference counts a body)
+        return n
     return listed_partners(i, S, grid.rest, avoid_self, n, base, cap, out)
 
 
@@ -209,7 +231,7 @@ def binned_large_partners(i, S, grid, avoid_self, base, cap, out):
 @jit
 def partners_of(i, S, nb, grid, avoid_self, base, cap, out):
     """Number of partners j > i of body ``i``; the first ``cap`` of them are written to ``out[base:]``, in
-    increasing j when all fit."""
+    increasing j when all fit. ``out`` has ``cap + 1`` slots from ``base`` (:func:`small_in_cells`' spare)."""
     if not (S.bound_min[i, 0] <= S.bound_max[i, 0]):
         return 0
     if grid.small[i]:
@@ -259,11 +281,11 @@ def is_binned_large(i, grid):
 @jit
 def scratch_block(b, S, nb, grid, avoid_self, count, scratch, width):
     """First pass over the bodies of block ``b`` (``grid``: a raw view; borrowing the arrays: no reference
-    counting per body): count each body's partners, keeping up to ``width`` of them, sorted, in its slots of
-    ``scratch``."""
+    counting per body): count each body's partners, keeping up to ``width - 1`` of them, sorted, in its
+    ``width`` slots of ``scratch`` (the last is the search's spare)."""
     count, scratch = borrow((count, scratch))
     for i in range(b * BLOCK, min(nb, (b + 1) * BLOCK)):
-        count[i] = partners_of(i, S, nb, grid, avoid_self, i * width, width, scratch)
+        count[i] = partners_of(i, S, nb, grid, avoid_self, i * width, width - 1, scratch)
 
 
 def _scratch_pass(S, nb, grid, avoid_self, count, scratch, width):
@@ -283,17 +305,17 @@ scratch_pass, scratch_pass_par = kernel(_scratch_pass, over="bodies")
 @jit
 def write_block(b, S, nb, grid, avoid_self, count, scratch, width, start, out):
     """Second pass over block ``b``: each body's partners into its rows of ``out`` (copied from ``scratch``,
-    or searched again for a body with more than ``width``)."""
+    or searched again for a body with ``width`` or more)."""
     count, scratch, start, out = borrow((count, scratch, start, out))
     for i in range(b * BLOCK, min(nb, (b + 1) * BLOCK)):
         n = count[i]
         s = start[i]
-        if n <= width:
+        if n < width:
             for t in range(n):
                 out[s + t, 0] = i
                 out[s + t, 1] = scratch[i * width + t]
             continue
-        ids = np.empty(n, np.int32)
+        ids = np.empty(n + 1, np.int32)
         partners_of(i, S, nb, grid, avoid_self, 0, n, ids)
         for t in range(n):
             out[s + t, 0] = i
@@ -482,7 +504,8 @@ def find_pairs(S, nb, avoid_self, pairs_before):
     dense = ncells <= 4 * idx.shape[0] + 1024
     large_order, large_keys, large_dense, rest = bin_large(S, large, idx.shape[0], lo, h, dims, dense)
     grid = body_grid(small, cell, dims, lo, np.full(1, h), order, keys_sorted, box,
-                     cell_table(keys_sorted, ncells, dense), large, large_order, large_keys, large_dense, rest)
+                     cell_table(keys_sorted, ncells, dense), large, large_order, large_keys, large_dense, rest,
+                     np.full(1, masks_may_refuse(S, nb, avoid_self)))
     # one search per body, keeping its first partners; only bodies with more are searched again
     count = np.zeros(nb, np.int64)
     width = scratch_width(pairs_before, nb)

@@ -12,13 +12,28 @@ def may_collide(S, i, j, avoid_self):
     bodies of the same mask sharing bits with ``avoidSelfInteractionMask``.
 
     Pairs whose shapes have no geometry functor are kept, as in YADE: they are
-    potential interactions that never become real.
+    potential interactions that never become real. Written without a branch: a loop over candidates that
+    calls it need not branch on it.
     """
     mi = S.mask[i]
     mj = S.mask[j]
-    if (mi & mj) == 0 or (mi == mj and (mi & avoid_self) != 0):
-        return False
-    return not (S.clump_id[i] >= 0 and S.clump_id[i] == S.clump_id[j])
+    ci = S.clump_id[i]
+    return ((mi & mj) != 0) & ((mi != mj) | ((mi & avoid_self) == 0)) & ((ci < 0) | (ci != S.clump_id[j]))
+
+
+@jit
+def masks_may_refuse(S, nb, avoid_self):
+    """Whether :func:`may_collide` may refuse a pair of the live bodies 0..nb-1: unless they all have one mask
+    that shares no bit with ``avoid_self`` (YADE's avoidSelfInteractionMask) and none is a clump's member."""
+    first = -1
+    for i in range(nb):
+        if not S.alive[i]:
+            continue
+        if first < 0:
+            first = i
+        if S.mask[i] != S.mask[first] or S.clump_id[i] >= 0:
+            return True
+    return first >= 0 and (S.mask[first] == 0 or (S.mask[first] & avoid_self) != 0)
 
 
 @jit
