@@ -200,7 +200,12 @@ def small_partners(i, S, grid, avoid_self, base, cap, out):
                        (c[i, 0] + 1, c[i, 1] + 1, c[i, 2] + 1), 0, base, cap, out)
     if grid.large_order.shape[0] > 0:
         dims = grid.dims
-        x0, y0, z0, x1, y1, z1 = cell_span(S, i, grid.lo, grid.h[0], dims)
+        # the cells the bound covers (cell_span's): its lower corner's is the one it is binned in
+        lo, h = grid.lo, grid.h[0]
+        x0, y0, z0 = c[i, 0], c[i, 1], c[i, 2]
+        x1 = grid_index(S.bound_max[i, 0], lo[0], h, dims[0])
+        y1 = grid_index(S.bound_max[i, 1], lo[1], h, dims[1])
+        z1 = grid_index(S.bound_max[i, 2], lo[2], h, dims[2])
         for cx in range(x0, x1 + 1):
             for cy in range(y0, y1 + 1):
                 for cz in range(z0, z1 + 1):
