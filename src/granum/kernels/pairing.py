@@ -24,7 +24,8 @@ def may_collide(S, i, j, avoid_self):
 @jit
 def masks_may_refuse(S, nb, avoid_self):
     """Whether :func:`may_collide` may refuse a pair of the live bodies 0..nb-1: unless they all have one mask
-    that shares no bit with ``avoid_self`` (YADE's avoidSelfInteractionMask) and none is a clump's member."""
+    that shares no bit with ``avoid_self`` (YADE's avoidSelfInteractionMask) and none is a clump's member. Dead
+    bodies are not looked at: the broad phase bounds them first, and their bound is empty (never a candidate)."""
     first = -1
     for i in range(nb):
         if not S.alive[i]:
@@ -38,6 +39,7 @@ def masks_may_refuse(S, nb, avoid_self):
 
 @jit
 def scratch_width(pairs_before, nb):
-    """Partners per body kept by the first pass of a broad phase's search (a body with more is searched again):
-    twice the mean of the last run plus 8, at most 64 (4 bytes each, 16 with a periodic image's shift)."""
+    """Slots per body of the first pass of a broad phase's search (a body with more partners than it keeps is
+    searched again; the aperiodic search keeps one slot less, its spare): twice the mean of the last run plus 8,
+    at most 64 (4 bytes each, 16 with a periodic image's shift)."""
     return min(64, 2 * pairs_before // max(nb, 1) + 8)
