@@ -123,9 +123,15 @@ def grid_index(x, lo, h, n):
 def cell_span(S, i, lo, h, dims):
     """Cells covered by body ``i``'s bound in the grid of cell (0, 0, 0) at ``lo`` [m], spacing ``h`` [m] and
     ``dims`` cells per axis: (first x, y, z, last x, y, z)."""
-    return (grid_index(S.bound_min[i, 0], lo[0], h, dims[0]), grid_index(S.bound_min[i, 1], lo[1], h, dims[1]),
-            grid_index(S.bound_min[i, 2], lo[2], h, dims[2]), grid_index(S.bound_max[i, 0], lo[0], h, dims[0]),
-            grid_index(S.bound_max[i, 1], lo[1], h, dims[1]), grid_index(S.bound_max[i, 2], lo[2], h, dims[2]))
+    return corner_cell(S.bound_min, i, lo, h, dims) + corner_cell(S.bound_max, i, lo, h, dims)
+
+
+@jit(inline="always")  # per body: no call
+def corner_cell(corner, i, lo, h, dims):
+    """The cell (x, y, z) of row ``i`` of ``corner`` (N, 3) [m] (a bound's lower or upper corners) in the grid of
+    :func:`cell_span`."""
+    return (grid_index(corner[i, 0], lo[0], h, dims[0]), grid_index(corner[i, 1], lo[1], h, dims[1]),
+            grid_index(corner[i, 2], lo[2], h, dims[2]))
 
 
 @jit(inline="always")  # per body or per candidate: no call
@@ -201,11 +207,8 @@ def small_partners(i, S, grid, avoid_self, base, cap, out):
     if grid.large_order.shape[0] > 0:
         dims = grid.dims
         # the cells the bound covers (cell_span's): its lower corner's is the one it is binned in
-        lo, h = grid.lo, grid.h[0]
         x0, y0, z0 = c[i, 0], c[i, 1], c[i, 2]
-        x1 = grid_index(S.bound_max[i, 0], lo[0], h, dims[0])
-        y1 = grid_index(S.bound_max[i, 1], lo[1], h, dims[1])
-        z1 = grid_index(S.bound_max[i, 2], lo[2], h, dims[2])
+        x1, y1, z1 = corner_cell(S.bound_max, i, grid.lo, grid.h[0], dims)
         for cx in range(x0, x1 + 1):
             for cy in range(y0, y1 + 1):
                 for cz in range(z0, z1 + 1):
