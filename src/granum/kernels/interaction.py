@@ -13,7 +13,9 @@ Each step:
 4. Contacts ended by their law are unlinked from their pair by the block that updated
    them; the per-body contact index (CSR) is rebuilt when the contact set changed.
 5. Forces and torques are gathered per body through the CSR index, in increasing
-   contact order: the sums are the same whatever the number of threads.
+   contact order: the sums are the same whatever the number of threads. Where one
+   thread updates the contacts (3.), in order, it adds each contact's force and torque
+   to its bodies as it goes instead: the same terms in the same order, one pass less.
 """
 
 from __future__ import annotations
@@ -480,30 +482,36 @@ def contact_physics(c, id1, id2, S, C, phys_tab):
 
 @jit(inline="always")  # once per contact: no call (see granum.kernels.dispatch)
 def update_contact(c, S, C, geom_tab, phys_tab, law_tab, died):
-    """Geometry, physics (new contacts) and law of contact ``c``; flags its block in ``died`` if it ends."""
+    """Geometry, physics (new contacts) and law of contact ``c``; flags its block in ``died`` if it ends.
+    Returns whether the contact is live after its law (what the force gather adds)."""
     flags = C.con_i[c, I_FLAGS]
     if not flags & FLAG_ALIVE:
-        return
+        return False
     id1, id2 = contact_geometry(c, S, C, geom_tab)
     if C.con_i[c, I_FLAGS] & (FLAG_NEW | FLAG_PHYS_AGAIN):
         contact_physics(c, id1, id2, S, C, phys_tab)
     law = C.con_i[c, I_LAW]
     if law < 0:   # made real by createInteraction while the InteractionLoop had no law for it
         fail(C, STATUS_NO_LAW, id1, id2)
-        return
+        return False
     # functors may set flags of their own (geometry, law): change only the bits owned here
     if not law_call(law, c, id1, id2, S, C, law_tab):
         C.con_i[c, I_FLAGS] &= ~FLAG_ALIVE
         died[c // BLOCK] = 1
+        return False
+    return True
 
 
 @jit
-def update_block(b, S, C, geom_tab, phys_tab, law_tab, died, law_totals, totals):
+def update_block(b, S, C, geom_tab, phys_tab, law_tab, died, law_totals, totals, scatter):
     """Contacts of block ``b``, then those of them that ended unlinked (:func:`unlink_block`); the arrays are
-    borrowed (no reference counting per contact: see ARCHITECTURE.md, "Kernel records")."""
+    borrowed (no reference counting per contact: see ARCHITECTURE.md, "Kernel records"). With ``scatter`` (only
+    where the blocks run one after the other, in order: :func:`update_scatter`), each live contact's force and
+    torque are added to its two bodies as soon as its law has run (:func:`scatter_contact`)."""
     geom_tab, phys_tab, law_tab, died = borrow((geom_tab, phys_tab, law_tab, died))
     for c in range(b * BLOCK, min(C.ctr[C_CONTACTS], (b + 1) * BLOCK)):
-        update_contact(c, S, C, geom_tab, phys_tab, law_tab, died)
+        if update_contact(c, S, C, geom_tab, phys_tab, law_tab, died) and scatter:
+            scatter_contact(c, S, C, law_tab[0])
     if died[b] != 0:
         unlink_block(b, C, died, law_totals, totals)
 
@@ -513,11 +521,21 @@ def _update(S, C, geom_tab, phys_tab, law_tab, died, law_totals, totals):
     for w in prange(queue_workers(queue)):
         b = next_block(queue, w, -1)
         while b >= 0:
-            update_block(b, S, C, geom_tab, phys_tab, law_tab, died, law_totals, totals)
+            update_block(b, S, C, geom_tab, phys_tab, law_tab, died, law_totals, totals, False)
             b = next_block(queue, w, b)
 
 
 update, update_par = kernel(_update, over="contacts")
+
+
+@jit
+def update_scatter(S, C, geom_tab, phys_tab, law_tab, died, law_totals, totals):
+    """The update of every contact on one thread, block after block, each live contact's force and torque added
+    to its bodies right after its law: the force gather's sums, term for term (each body's contacts in increasing
+    contact order, from the force it had), in one pass over the contacts instead of a second one through the
+    per-body index (:func:`interaction_stage`)."""
+    for b in range(died.shape[0]):
+        update_block(b, S, C, geom_tab, phys_tab, law_tab, died, law_totals, totals, True)
 
 
 @jit
@@ -674,11 +692,36 @@ def _plan_moments(laws):
     return lambda laws: False
 
 
+@jit(inline="always")  # per contact end: no call
+def contact_load(c, second, xi, S, C, laws):
+    """``(f, t)``: the force and torque [N], [N m] of contact ``c`` on its body 2 (``second``) or body 1, whose
+    centre is ``xi`` [m]; with a law of ``laws`` writing moments (:func:`plan_moments`), the torque holds the
+    contact's moment (on body 2, the opposite on body 1). The one formula of the force gather
+    (:func:`gather_body`) and of the update's scatter (:func:`scatter_contact`): both add the same numbers."""
+    f = add(load3_row(C.con_f, c, F_FN), load3_row(C.con_f, c, F_FS))  # force on body 2
+    if C.con_i[c, I_FLAGS] & FLAG_RADIAL_ARMS:
+        # YADE's sphericalBodies: lever arm (R_i - delta/2) along the normal
+        half = 0.5 * C.con_f[c, F_PEN]
+        arm_len = half - C.con_f[c, F_R2] if second else C.con_f[c, F_R1] - half
+        arm = scale(load3_row(C.con_f, c, F_NORMAL), arm_len)
+    elif second:
+        shift, _ = contact_shift(c, S, C)
+        arm = sub(load3_row(C.con_f, c, F_POINT), add(xi, shift))
+    else:
+        arm = sub(load3_row(C.con_f, c, F_POINT), xi)
+    if not second:
+        f = (-f[0], -f[1], -f[2])
+    t = cross(arm, f)
+    if plan_moments(laws):
+        m = load3_row(C.con_f, c, F_MOMENT)
+        t = add(t, m) if second else sub(t, m)
+    return f, t
+
+
 @jit
 def gather_body(i, S, C, laws):
-    """Add the forces and torques of body ``i``'s contacts to it, in increasing contact order; when a law of
-    the functor set ``laws`` writes moments (:func:`plan_moments`), also each contact's moment (on body 2, the
-    opposite on body 1). ``laws`` is a static value, no array: a call per body counts no reference."""
+    """Add the forces and torques of body ``i``'s contacts to it, in increasing contact order
+    (:func:`contact_load`). ``laws`` is a static value, no array: a call per body counts no reference."""
     a = C.csr_start[i]
     b = C.csr_start[i + 1]
     if a == b:
@@ -692,24 +735,7 @@ def gather_body(i, S, C, laws):
     xi = load3(S.pos, i)
     for k in range(a, b):
         c = C.csr_con[k]
-        f = add(load3_row(C.con_f, c, F_FN), load3_row(C.con_f, c, F_FS))  # force on body 2
-        second = C.con_i[c, I_ID2] == i
-        if C.con_i[c, I_FLAGS] & FLAG_RADIAL_ARMS:
-            # YADE's sphericalBodies: lever arm (R_i - delta/2) along the normal
-            half = 0.5 * C.con_f[c, F_PEN]
-            arm_len = half - C.con_f[c, F_R2] if second else C.con_f[c, F_R1] - half
-            arm = scale(load3_row(C.con_f, c, F_NORMAL), arm_len)
-        elif second:
-            shift, _ = contact_shift(c, S, C)
-            arm = sub(load3_row(C.con_f, c, F_POINT), add(xi, shift))
-        else:
-            arm = sub(load3_row(C.con_f, c, F_POINT), xi)
-        if not second:
-            f = (-f[0], -f[1], -f[2])
-        t = cross(arm, f)
-        if plan_moments(laws):
-            m = load3_row(C.con_f, c, F_MOMENT)
-            t = add(t, m) if second else sub(t, m)
+        f, t = contact_load(c, C.con_i[c, I_ID2] == i, xi, S, C, laws)
         fx += f[0]
         fy += f[1]
         fz += f[2]
@@ -722,6 +748,23 @@ def gather_body(i, S, C, laws):
     S.torque[i, 0] = tx
     S.torque[i, 1] = ty
     S.torque[i, 2] = tz
+
+
+@jit(inline="always")  # once per contact of a one-thread update: no call
+def scatter_contact(c, S, C, laws):
+    """Add contact ``c``'s force and torque to its body 1 and to its body 2 (:func:`contact_load`). Both are
+    computed before either is stored: a store into a body's force could be the same memory as the contact's row
+    for all the compiler knows, and would make it read the row again."""
+    id1 = C.con_i[c, I_ID1]
+    id2 = C.con_i[c, I_ID2]
+    f1, t1 = contact_load(c, False, load3(S.pos, id1), S, C, laws)
+    f2, t2 = contact_load(c, True, load3(S.pos, id2), S, C, laws)
+    for k in range(3):
+        S.force[id1, k] += f1[k]
+        S.torque[id1, k] += t1[k]
+    for k in range(3):
+        S.force[id2, k] += f2[k]
+        S.torque[id2, k] += t2[k]
 
 
 @jit
@@ -848,20 +891,31 @@ def interaction_stage(S, C, P):
     totals, at = take_f8(w, at, contact_blocks * nended)
     totals = rows_of(totals, nended)
     totals[:] = 0.0
-    if n < PARALLEL_THRESHOLD_CONTACTS:
-        update(R, V, geom_tab, phys_tab, law_tab, died, P.law_totals, totals)
+    # one thread updates the contacts in order: it adds their forces as it goes, the gather's sums term for term
+    scattered = n < PARALLEL_THRESHOLD_CONTACTS or thread_count() == 1
+    if scattered:
+        update_scatter(R, V, geom_tab, phys_tab, law_tab, died, P.law_totals, totals)
     else:
         update_par(R, V, geom_tab, phys_tab, law_tab, died, P.law_totals, totals)
     count_dead(V, died, totals)
-    if V.ctr[C_CSR_DIRTY]:
-        if 4 * V.ctr[C_DEAD] > V.ctr[C_CONTACTS]:
-            compact(V)
+    dirty = V.ctr[C_CSR_DIRTY] != 0
+    compacting = dirty and 4 * V.ctr[C_DEAD] > V.ctr[C_CONTACTS]
+    if not scattered:
+        if dirty:
+            build_csr(V, nb)
+        # a pool that caches cannot hold is read from memory: prefetch (in cache, it would only cost instructions)
+        big = V.ctr[C_CONTACTS] * V.con_f.shape[1] * V.con_f.itemsize >= GATHER_PREFETCH_BYTES
+        ahead = GATHER_AHEAD if big else 0
+        if nb < PARALLEL_THRESHOLD:
+            gather(R, V, nb, ahead, law_tab[0])
+        else:
+            gather_par(R, V, nb, ahead, law_tab[0])
+    # the pool is compacted after the forces are added (a compaction may sort it: the sums above follow the
+    # order the contacts were updated in, with or without the scatter)
+    if compacting:
+        compact(V)
         build_csr(V, nb)
-    # a pool that caches cannot hold is read from memory: prefetch (in cache, it would only cost instructions)
-    ahead = GATHER_AHEAD if V.ctr[C_CONTACTS] * V.con_f.shape[1] * V.con_f.itemsize >= GATHER_PREFETCH_BYTES else 0
-    if nb < PARALLEL_THRESHOLD:
-        gather(R, V, nb, ahead, law_tab[0])
-    else:
-        gather_par(R, V, nb, ahead, law_tab[0])
+    elif V.ctr[C_CSR_DIRTY]:
+        build_csr(V, nb)
     if S.iscal[SI_TRACK_ENERGY]:
         contact_energy(R, V)
