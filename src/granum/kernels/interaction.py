@@ -13,9 +13,11 @@ Each step:
 4. Contacts ended by their law are unlinked from their pair by the block that updated
    them; the per-body contact index (CSR) is rebuilt when the contact set changed.
 5. Forces and torques are gathered per body through the CSR index, in increasing
-   contact order: the sums are the same whatever the number of threads. Where one
-   thread updates the contacts (3.), in order, it adds each contact's force and torque
-   to its bodies as it goes instead: the same terms in the same order, one pass less.
+   contact order: the sums are the same whatever the number of threads. Where the
+   stage updates the contacts on one thread (one thread in all, or fewer contacts than
+   PARALLEL_THRESHOLD_CONTACTS), it adds each contact's force and torque to its bodies
+   as it goes instead: the same terms in the same order, one pass less. The pool is
+   compacted after that.
 """
 
 from __future__ import annotations
@@ -483,7 +485,8 @@ def contact_physics(c, id1, id2, S, C, phys_tab):
 @jit(inline="always")  # once per contact: no call (see granum.kernels.dispatch)
 def update_contact(c, S, C, geom_tab, phys_tab, law_tab, died):
     """Geometry, physics (new contacts) and law of contact ``c``; flags its block in ``died`` if it ends.
-    Returns whether the contact is live after its law (what the force gather adds)."""
+    Returns whether its law ran and kept the contact (what the force gather adds; False too when the step fails for
+    want of a law, and the step's forces are then incomplete on every path)."""
     flags = C.con_i[c, I_FLAGS]
     if not flags & FLAG_ALIVE:
         return False
@@ -585,8 +588,8 @@ def compact(C):
     """Remove dead rows, keeping the order of the live contacts; a pool of :data:`SORT_ROWS_BYTES` or more is
     also put in the order of the pairs (smaller body id, then larger; stable), so that the rows of a body's
     contacts come close together again, where the force gather reads them (:func:`build_csr`; at 10,000
-    triaxial spheres, one thread, 0.88 -> 0.66 ms a step). The order of the rows is that of each body's force
-    sum: it depends only on the steps' contacts, never on the thread count."""
+    triaxial spheres, one thread, with the gather, 0.88 -> 0.66 ms a step). The order of the rows is that of each
+    body's force sum: it depends only on the steps' contacts, never on the thread count."""
     n = C.ctr[C_CONTACTS]
     live = 0
     top = 0

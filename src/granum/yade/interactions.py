@@ -376,7 +376,7 @@ def _pack(id1, id2):
 
 def body_contact_rows(scene, i: int) -> np.ndarray:
     """Rows of the live contacts of body ``i`` (none for an id outside the scene), in increasing order: from the
-    per-body index the last force gather built while no contact has begun or ended since (the CSR of
+    per-body index the interaction loop last built while no contact has begun or ended since (the CSR of
     :mod:`granum.core.contacts`), in the time of the body's own contacts (a loop of ``len(b.intrs())`` over the
     bodies, YADE's way to the coordination numbers, had taken time quadratic in their count); else found among
     all rows."""
