@@ -52,13 +52,13 @@ def whole(a):   # calls its parts by symbol: their code stays in their own entry
 '''
 
 
-def _run(folder, script: str, **env) -> str:
-    """Run ``script`` in ``folder`` (created) with the module above importable as ``kern`` and a cache
-    directory of its own, on the fast compile path whatever the suite's (these tests are the fast path's: the
-    suite also runs with GRANUM_COMPILE=fallback); its standard output."""
+def _run(folder, script: str, module: str = KERNELS, **env) -> str:
+    """Run ``script`` in ``folder`` (created) with ``module`` (the one above unless said) importable as ``kern``
+    and a cache directory of its own, on the fast compile path whatever the suite's (these tests are the fast
+    path's: the suite also runs with GRANUM_COMPILE=fallback); its standard output."""
     folder.mkdir(exist_ok=True)
     if not (folder / "kern.py").exists():   # rewriting it would change its time stamp: Numba's cache key
-        (folder / "kern.py").write_text(KERNELS)
+        (folder / "kern.py").write_text(module)
     environ = {**os.environ, "GRANUM_COMPILE": "auto", "GRANUM_CACHE_DIR": str(folder / "cache"), **env}
     out = subprocess.run([sys.executable, "-c", textwrap.dedent(script)], cwd=folder, env=environ, check=True,
                          capture_output=True, text=True, timeout=600)
@@ -92,6 +92,68 @@ def test_link_only_callees_print_raise_and_are_cached_inside_their_entry_point(t
         assert "link-only: False" in out
     assert "outer compiled: 1 loaded from the cache: 0" in first
     assert "outer compiled: 1 loaded from the cache: 1" in second
+
+
+INLINED = '''
+import numpy as np
+from granum._jit import jit
+
+
+@jit(inline="always")
+def spread(a, i, w):   # a loop: more than LLVM would inline at three sites on its own
+    s = 0.0
+    for k in range(max(i - w, 0), min(i + w + 1, a.shape[0])):
+        s += a[k] * (1.0 + k - i)
+    return s
+
+
+@jit
+def left(a):
+    return spread(a, 0, 2) + spread(a, a.shape[0] - 1, np.int32(3))
+
+
+@jit
+def right(a):
+    return spread(a, 1, 1)
+'''
+
+
+INLINE_BY_LLVM = '''
+import numpy as np
+from numba.core import event
+import kern
+compiled = []
+class Count(event.Listener):
+    def on_start(self, ev):
+        pass
+    def on_end(self, ev):
+        compiled.append(ev.data["dispatcher"].py_func.__name__)
+event.register("numba:compile", Count())
+a = np.linspace(0.5, 2.0, 9) ** 2
+print("values:", repr(kern.left(a)), repr(kern.right(a)))
+print("spread compiled:", compiled.count("spread"), "entry points:", len(kern.spread.overloads))
+calls = [line for f in (kern.left, kern.right) for ir in f.inspect_llvm().values() for line in ir.splitlines()
+         if " call " in line and "spread" in line]
+print("calls left:", len(calls))
+'''
+
+
+def _spread(a, i, w):
+    return sum(a[k] * (1.0 + k - i) for k in range(max(i - w, 0), min(i + w + 1, len(a))))
+
+
+def test_a_function_inlined_always_is_compiled_once_and_inlined_by_llvm(tmp_path):
+    """On the fast path ``inline="always"`` compiles the function once, link-only, for all three call sites and
+    both integer types (Numba's own inlining would type a copy at each site and never compile it), and LLVM
+    inlines it into both entry points: their optimised code calls it nowhere."""
+    import numpy as np
+
+    out = _run(tmp_path, INLINE_BY_LLVM, module=INLINED)
+    a = np.linspace(0.5, 2.0, 9) ** 2
+    left, right = float(_spread(a, 0, 2) + _spread(a, 8, 3)), float(_spread(a, 1, 1))
+    assert f"values: {left!r} {right!r}" in out
+    assert "spread compiled: 1 entry points: 0" in out
+    assert "calls left: 0" in out
 
 
 PARTS = '''

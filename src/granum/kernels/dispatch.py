@@ -15,10 +15,11 @@ facet geometry nor the visco-elastic law). Its source is generated from the regi
 (see :mod:`granum._codegen`), so registering a functor is all it takes to make it
 callable from the kernels.
 
-The dispatch functions and the functors are inlined into their callers at Numba's IR level
-(``inline='always'``; the functors as inlined copies of the registered functions). A call between
-compiled functions passes every array as its whole descriptor and LLVM's inliner leaves functors of
-this size alone: on the dense lattice (one thread), a contact update through calls cost 101 ns,
+The dispatch functions are inlined into their callers at Numba's IR level (``inline='always'`` of an
+overload), and the functors into the dispatch (``jit(inline='always')`` copies of the registered
+functions: on the fast path LLVM inlines them, see :mod:`granum._linking`). A call between compiled
+functions passes every array as its whole descriptor and LLVM's inliner leaves functors of this size
+alone unless told: on the dense lattice (one thread), a contact update through calls cost 101 ns,
 inlined 46 ns.
 """
 
