@@ -184,15 +184,11 @@ PARALLEL_THRESHOLD_CONTACTS = 2 * BLOCK + 1
 VECTOR_MIN_ITEMS = 64
 
 
-#: The functions :func:`jit` compiled for LLVM to inline (their Numba options no longer say ``inline``).
-_INLINED: set = set()
-
-
 def jit(fn=None, **kw):
     """``numba.njit`` with granum's defaults (on-disk cache, no Python fallback); called from compiled
     code, the function is compiled for canonical argument types and link-only (:mod:`granum._linking`).
-    ``inline="always"``: on the fast path, a link-only function that LLVM inlines into every caller
-    (:func:`granum._linking.install`); on the plain path, Numba's inlining.
+    ``inline="always"``: on the fast path, Numba's ``forceinline`` instead, so that LLVM inlines the
+    function into its callers (:mod:`granum._linking`); on the plain path, Numba's inlining.
 
     Division follows IEEE 754 (``error_model="numpy"``: x/0 is inf or NaN, as in C and YADE) instead of
     testing every divisor for zero to raise ZeroDivisionError: 2-4 % of a dense-lattice step. Most
@@ -202,18 +198,16 @@ def jit(fn=None, **kw):
     """
     opts = dict(cache=True, nogil=True, error_model="numpy")
     opts.update(kw)
-    # on the fast path LLVM inlines it where it is linked: typed and lowered once for its argument types instead
-    # of once at every call site, as Numba's own inlining does (the plain path keeps Numba's)
-    inline = not PLAIN and opts.get("inline") == "always"
-    if inline:
+    if not PLAIN and opts.get("inline") == "always":
+        # LLVM inlines it where it is linked: typed and lowered once for its argument types instead of once at
+        # every call site, as Numba's own inlining does (the plain path keeps Numba's)
         del opts["inline"]
+        opts["forceinline"] = True
 
     def make(f):
         with _granum_cache():
             dispatcher = njit(**opts)(f)
-        if inline:
-            _INLINED.add(dispatcher)
-        return dispatcher if PLAIN else _linking.install(dispatcher, always_inline=inline)
+        return dispatcher if PLAIN else _linking.install(dispatcher)
 
     return make if fn is None else make(fn)
 
@@ -309,8 +303,6 @@ def serial_variant(dispatcher, over: frozenset = ITEMS):
             replaced = _serial_globals(dispatcher.py_func, over)
             if replaced:
                 options = {k: v for k, v in dispatcher.targetoptions.items() if k != "nopython"}
-                if dispatcher in _INLINED:
-                    options["inline"] = "always"
                 copy = _renamed_copy(dispatcher.py_func, replaced, _variant_suffix(over))
                 _VARIANTS[key] = jit(copy, **options)
         return _VARIANTS[key]

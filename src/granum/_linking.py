@@ -22,12 +22,11 @@ A granum function called from compiled code gets two changes (:func:`install`):
   cache. The library of the *entry point* that finally links it (a function called from
   Python: the step loop, a stage, a record conversion) optimises the whole and translates
   it, once, and its cached machine code contains the callee.
-* **Inlining by LLVM.** A function declared ``inline="always"`` (:func:`granum._jit.jit`) is compiled so
-  too, its function marked ``alwaysinline``: LLVM inlines it into each caller when the entry point is
-  optimised. Numba's own inlining copies the function's IR into every call site and types and lowers
-  each copy again; this way it is typed and lowered once for its argument types (a first run of
-  ``examples/bouncing_sphere.py`` on one process: 38.3-38.6 -> 32.3-33.6 s of compiling), and the
-  machine code is the same inlined code (the dense lattice's bits unchanged).
+
+A function declared ``inline="always"`` is compiled so too, with Numba's ``forceinline`` option instead
+(:func:`granum._jit.jit`): its function is marked ``alwaysinline``, and LLVM inlines it into each caller
+when the entry point is optimised. Numba's own inlining copies the function's IR into every call site and
+types and lowers each copy again; this way it is typed and lowered once for its argument types.
 
 A callee that already has an ordinary compilation for the same types (it was called from
 Python, or is in the disk cache) is linked from that one instead. Recursion is not supported
@@ -104,9 +103,8 @@ class _LinkOnlyKey:
 _ENVIRONMENTS: dict = {}
 
 
-def _compile_link_only(dispatcher, args: tuple, always_inline: bool):
-    """Compile ``dispatcher`` for ``args`` into a :class:`LinkOnlyLibrary`; register it for callers.
-    ``always_inline``: its function carries LLVM's ``alwaysinline`` attribute."""
+def _compile_link_only(dispatcher, args: tuple):
+    """Compile ``dispatcher`` for ``args`` into a :class:`LinkOnlyLibrary`; register it for callers."""
     target = dispatcher.targetdescr
     flags = compiler.Flags()
     target.options.parse_as_flags(flags, dispatcher.targetoptions)
@@ -119,8 +117,6 @@ def _compile_link_only(dispatcher, args: tuple, always_inline: bool):
         cres = compiler.compile_extra(target.typing_context, target.target_context, dispatcher.py_func, args=args,
                                       return_type=None, flags=flags, locals=dispatcher.locals, library=library,
                                       pipeline_class=dispatcher._compiler.pipeline_class)
-    if always_inline:
-        library._final_module.get_function(cres.fndesc.mangled_name).add_function_attribute("alwaysinline")
     key = _LinkOnlyKey(dispatcher.py_func.__qualname__)
     target.target_context.insert_user_function(key, cres.fndesc, [cres.library])
     _ENVIRONMENTS[cres.fndesc.env_name] = cres.environment
@@ -168,10 +164,9 @@ def entry_call(typingctx, fn, args):
     return fndesc.restype(fn, args), codegen
 
 
-def install(dispatcher, canonical_types: bool = True, always_inline: bool = False):
+def install(dispatcher, canonical_types: bool = True):
     """Give ``dispatcher`` link-only compilation when compiled code calls it, and canonical argument types
-    unless ``canonical_types`` is false. With ``always_inline``, LLVM inlines it into every caller when the entry
-    point that links them is optimised (an ordinary compilation linked instead is left to LLVM's judgement)."""
+    unless ``canonical_types`` is false."""
     link_only: dict = {}      # argument types -> (implementation key, compile result)
     compiling: set = set()
     generic_template = dispatcher.get_call_template
@@ -189,7 +184,7 @@ def install(dispatcher, canonical_types: bool = True, always_inline: bool = Fals
             if folded not in link_only and not load_cached(dispatcher, folded):
                 compiling.add(folded)
                 try:
-                    link_only[folded] = _compile_link_only(dispatcher, folded, always_inline)
+                    link_only[folded] = _compile_link_only(dispatcher, folded)
                 finally:
                     compiling.discard(folded)
             signatures = list(dispatcher.nopython_signatures)
@@ -282,6 +277,7 @@ INTERNALS = (
     "numba.core.compiler.Flags.no_compile",
     "numba.core.compiler.Flags.no_cpython_wrapper",
     "numba.core.compiler.Flags.no_cfunc_wrapper",
+    "numba.core.compiler.Flags.forceinline",
     "numba.core.compiler.CompileResult.fndesc",
     "numba.core.compiler.CompileResult.library",
     "numba.core.compiler.CompileResult.environment",

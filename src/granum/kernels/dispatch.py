@@ -92,7 +92,8 @@ def render(role: str, codes: tuple) -> str:
     for k in codes:
         alias = f"{role}_{k}"
         f = registered[k]
-        # an inlined copy of the functor's Python function (never compiled on its own)
+        # a copy of the functor's Python function, inlined into the dispatch (on the fast path compiled once for
+        # its argument types, link-only, for LLVM to inline: granum._linking)
         if f.function is None:
             lines.append(import_line(f.func, alias + "_src"))
         else:   # a user's law, handed to the registry as a function; the digest names this version of it

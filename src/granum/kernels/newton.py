@@ -240,7 +240,7 @@ def spin(i, ori, ang_vel, t, inertia, dt, blocked, damping, track, damp_work, ex
     return damp_work
 
 
-@jit   # called: inlined, it compiled again in every copy of spin (0.4 s of the stage's first compiling)
+@jit   # called: inlined by Numba, it compiled again in every copy of spin (0.4 s of the stage's first compiling)
 def turn(i, ori, rv, exact_norm):
     """Turn the orientation of body ``i`` by the rotation vector ``rv`` = omega dt [rad] (3.5,11), normalized with a
     square root when ``exact_norm``, else with the series (:func:`quat_renormalized`); unchanged for rv = 0."""
