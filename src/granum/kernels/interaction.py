@@ -474,8 +474,8 @@ def contact_physics(c, id1, id2, S, C, phys_tab):
     """IPhys of new contact ``c`` (once, in the functor's body order), or again for an existing one that asked
     for it (``FLAG_PHYS_AGAIN``: the functor sees FLAG_NEW clear); clears both flags.
 
-    A call of its own (not inlined): it runs once per contact, and one call site of the dispatch keeps its
-    typing to one (measured when Numba inlined the functors too, at every site)."""
+    A call of its own (not inlined): it runs once per contact, and one call site types the dispatch once (measured
+    when Numba also inlined the functors at every site)."""
     if C.con_i[c, I_FLAGS] & FLAG_PHYS_SWAP:
         id1, id2 = id2, id1
     phys_call(C.con_i[c, I_PHYS], c, id1, id2, S, C, phys_tab)
