@@ -168,8 +168,9 @@ def test_a_function_inlined_always_is_compiled_once_and_inlined_by_llvm(tmp_path
     assert float(values[0]) == pytest.approx(left, rel=1e-13)   # the maths library's last bits may differ
     assert float(values[1]) == pytest.approx(right, rel=1e-13)
     assert "spread compiled: 1 entry points: 0" in out
-    assert "spread called: 0" in out
-    assert "kept called: 0" not in out
+    calls = {line.split()[0]: int(line.split()[-1]) for line in out.splitlines() if " called: " in line}
+    assert calls["spread"] == 0
+    assert calls["kept"] > 0
 
 
 PARTS = '''
