@@ -680,6 +680,14 @@ def build_csr(C, nb):
     C.ctr[C_CSR_DIRTY] = 0
 
 
+@jit
+def index_contacts(C, nb):
+    """Build the per-body index of the contacts record ``C`` for ``nb`` bodies if it is stale (``C_CSR_DIRTY``):
+    for Python's lookups of a body's contacts (:func:`granum.yade.interactions.body_contact_rows`)."""
+    if C.ctr[C_CSR_DIRTY]:
+        build_csr(raw(C), nb)
+
+
 def plan_moments(laws):
     """Whether a law of the functor set ``laws`` (the static first item of a law table) writes contact moments
     (the history group "moment", :data:`granum.core.contacts.F_MOMENT`): a constant of the compiled code, so
@@ -919,7 +927,9 @@ def interaction_stage(S, C, P):
     # order the contacts were updated in, with or without the scatter)
     if compacting:
         compact(V)
-    if V.ctr[C_CSR_DIRTY]:
-        build_csr(V, nb)
+    # the per-body index is left stale here: its readers build it when they need it (the gather above, the stages
+    # that read a body's contacts, Python's b.intrs(): index_contacts). Where the update scatters the forces no
+    # stage needs it, and a falling ball's contacts begin and end at every step after its impact (a build reads
+    # every body: 2.8 us a step for its 4,428 bodies)
     if S.iscal[SI_TRACK_ENERGY]:
         contact_energy(R, V)

@@ -22,6 +22,7 @@ from math import sqrt
 
 import numpy as np
 
+from granum._jit import call
 from granum.core.contacts import (
     C_CONTACTS,
     C_CSR_DIRTY,
@@ -41,6 +42,7 @@ from granum.core.contacts import (
 )
 from granum.core.scene import ContactsGeneration
 from granum.kernels.dispatch import functors
+from granum.kernels.interaction import index_contacts
 from granum.mathtypes import Matrix3, Quaternion, Vector3, Vector3i, _index
 from granum.physics import registry
 from granum.yade._pausing import pauses_the_run
@@ -376,15 +378,17 @@ def _pack(id1, id2):
 
 def body_contact_rows(scene, i: int) -> np.ndarray:
     """Rows of the live contacts of body ``i`` (none for an id outside the scene), in increasing order: from the
-    per-body index the interaction loop last built while no contact has begun or ended since (the CSR of
-    :mod:`granum.core.contacts`), in the time of the body's own contacts (a loop of ``len(b.intrs())`` over the
-    bodies, YADE's way to the coordination numbers, had taken time quadratic in their count); else found among
-    all rows."""
+    per-body index (the CSR of :mod:`granum.core.contacts`), built first if a contact began or ended since
+    (:func:`granum.kernels.interaction.index_contacts`), in the time of the body's own contacts (a loop of
+    ``len(b.intrs())`` over the bodies, YADE's way to the coordination numbers, had taken time quadratic in their
+    count); for a body appended since the last step, which the index does not cover yet, found among all rows."""
     C = scene.contacts
     start = C.csr_start
     if not 0 <= i < scene.body_count:
         return np.zeros(0, np.int64)
-    if not C.ctr[C_CSR_DIRTY] and start.shape[0] == scene.body_count + 1:
+    if start.shape[0] == scene.body_count + 1:
+        if C.ctr[C_CSR_DIRTY]:
+            call(index_contacts, scene.contacts_record(), scene.body_count)
         return C.csr_con[start[i]:start[i + 1]]
     ids = C.con_i[:int(C.ctr[C_CONTACTS])]
     return np.nonzero(((ids[:, I_ID1] == i) | (ids[:, I_ID2] == i)) & (ids[:, I_FLAGS] & FLAG_ALIVE != 0))[0]
