@@ -253,3 +253,28 @@ def test_a_moved_detection_origin_misses_no_touching_pair(yade):
         O.run(2, True)
         shifted += bool(O._scene.bodies.detect_shift[:n].any())
     assert checked > 1000 and shifted > 0
+
+
+def test_the_motions_the_collider_leaves_are_those_the_interaction_loop_computes(yade):
+    """The collider's check computes every body's motion; the interaction loop right after it reads them
+    (``feeds_motions``) instead of computing them again. The dropped cluster with the standard engine order, and
+    with the ForceResetter between the collider and the loop (the same physics, the loop computes its own motions):
+    the same bits after its impact, where contacts began and ended and the collider ran again."""
+    O = yade.O
+    states = []
+    for order in ((0, 1, 2, 3), (1, 0, 2, 3)):
+        O.reset()
+        _dropped_cluster(yade)
+        O.engines = [O.engines[k] for k in order]
+        O.run(900, True)
+        b = O._scene.bodies
+        n = b.count
+        states.append((b.pos[:n].copy(), b.vel[:n].copy(), b.ang_vel[:n].copy(), _contacts(O),
+                       O.engines[order.index(1)].params(O._scene, list(O.engines)).feeds_motions,
+                       O.engines[order.index(1)].numAction))
+    fed, own = states
+    assert fed[4] and not own[4]
+    assert fed[5] == own[5] >= 3 and len(fed[3]) >= 20
+    for a, b in zip(fed[:3], own[:3], strict=True):
+        assert np.array_equal(a.view(np.int64), b.view(np.int64))
+    assert fed[3] == own[3]

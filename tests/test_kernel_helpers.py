@@ -78,7 +78,7 @@ def test_prefetching_gather_gives_the_same_forces(yade):
     from granum._jit import call
     from granum.core.contacts import CONTACTS
     from granum.kernels.dispatch import code_of, functor_set
-    from granum.kernels.interaction import gather
+    from granum.kernels.interaction import gather, index_contacts
 
     O = yade.O
     r, n = 0.01, 7
@@ -95,6 +95,7 @@ def test_prefetching_gather_gives_the_same_forces(yade):
     S, C = scene.arrays(), CONTACTS.to_record(scene.contacts)
     nb = len(O.bodies)
     stepped = (scene.bodies.force[:nb].copy(), scene.bodies.torque[:nb].copy())  # the last step's gather
+    call(index_contacts, C, nb)   # the per-body index, as the stage builds it before its gather when stale
     results = []
     for ahead in (0, 1, 4, 16, n**3):
         scene.bodies.force[:nb] = 0.0
@@ -309,9 +310,15 @@ def _fill_pieces(C, words):
     return at, a.shape[0], b.shape[0], c.shape[0], d.shape[0]
 
 
+@numba.njit
+def _grow(C, words):
+    area(C, words)
+
+
 def test_work_area_pieces_are_the_views_numpy_names():
     """Pieces taken one after the other lie where NumPy's views of the same words find them, in their own
-    dtypes, each starting on a word; the area grows to what is asked and keeps its contents when it need not."""
+    dtypes, each starting on a word; the area grows to what is asked, and keeps its contents, in the same array
+    when it need not grow and at the start of the larger one when it must."""
     C = CONTACTS.to_record(new_contact_arrays(4))
     assert _fill_pieces(C, 20) == (12, 5, 9, 2, 4)
     w = CONTACTS.from_record(C).scratch
@@ -322,16 +329,21 @@ def test_work_area_pieces_are_the_views_numpy_names():
     assert w[11] == 3.5   # row 1, column 1 of the (2, 2) rows from word 8
     _fill_pieces(C, 10)   # smaller: the same array
     assert CONTACTS.from_record(C).scratch.ctypes.data == w.ctypes.data
-    _fill_pieces(C, 25)   # larger: grown by half at least
-    assert CONTACTS.from_record(C).scratch.shape == (30,)
+    before = CONTACTS.from_record(C).scratch.copy()
+    _grow(C, 25)   # larger: grown by half at least, the words of the smaller area first
+    grown = CONTACTS.from_record(C).scratch
+    assert grown.shape == (30,) and grown.ctypes.data != w.ctypes.data
+    assert np.array_equal(grown[:20].view(np.int64), before.view(np.int64))
 
 
-def test_spheres_left_counts_what_the_per_body_test_finds():
-    """The collider's vectorized test for blocks of live bounded spheres (granum.kernels.bounds.spheres_left)
-    counts the bodies whose centre moved farther than the Verlet distance (any motion at all for a distance of 0;
-    a NaN position counts), computed here in NumPy; live_bounded_spheres accepts exactly such blocks."""
+def test_sphere_motions_count_the_spheres_that_left_their_bound():
+    """The collider's trigger for blocks of live bounded spheres (the count sphere_motions gives with the
+    motions, granum.kernels.motion) counts the bodies whose centre moved farther than the Verlet distance (any
+    motion at all for a distance of 0; a NaN position counts), computed here in NumPy; live_bounded_spheres
+    accepts exactly such blocks."""
     from granum.core.shapes import ShapeKind
-    from granum.kernels.bounds import live_bounded_spheres, spheres_left
+    from granum.kernels.bounds import live_bounded_spheres
+    from granum.kernels.motion import SPREAD, sphere_motions
 
     rng = np.random.default_rng(12)
     n = 600
@@ -344,7 +356,9 @@ def test_spheres_left_counts_what_the_per_body_test_finds():
             d = pos[lo:hi] - bound_pos[lo:hi]
             dist = np.sqrt(d[:, 0] * d[:, 0] + d[:, 1] * d[:, 1] + d[:, 2] * d[:, 2])
             left = (dist > verlet) | ((verlet == 0.0) & (dist > 0.0)) | np.isnan(dist)
-            assert spheres_left(lo, hi, pos, bound_pos, verlet) == np.count_nonzero(left)
+            spread = np.zeros(SPREAD)
+            sphere_motions(lo, hi, pos, bound_pos, np.zeros((n, 3)), verlet, np.zeros((n, 4)), spread)
+            assert spread[7] == np.count_nonzero(left)
     bound_max = bound_pos + 0.1
     columns = {"alive": np.ones(n, bool), "kind": np.full(n, ShapeKind.SPHERE, np.int8), "bound_min": bound_pos - 0.1}
 
@@ -366,7 +380,7 @@ def test_sphere_motions_are_the_displacements_and_their_box():
     each row the centre's displacement since its bound less the detection's shift, and a zero rotation term, the
     block's spread the least and greatest of these per axis, computed here in NumPy; an infinite or NaN
     displacement makes the rotation entry infinite (no bound), and rows outside the block are left alone."""
-    from granum.kernels.motion import sphere_motions
+    from granum.kernels.motion import SPREAD, sphere_motions
 
     rng = np.random.default_rng(14)
     n = 700
@@ -375,17 +389,17 @@ def test_sphere_motions_are_the_displacements_and_their_box():
     shift = rng.normal(size=(n, 3)) * 0.01 * (rng.random((n, 1)) < 0.5)
     for lo, hi in ((0, 512), (512, 700), (9, 10)):
         motion = np.full((n, 4), 7.0)
-        spread = np.zeros(7)
-        sphere_motions(lo, hi, pos, bound_pos, shift, motion, spread)
+        spread = np.zeros(SPREAD)
+        sphere_motions(lo, hi, pos, bound_pos, shift, 1.0, motion, spread)
         d = (pos[lo:hi] - bound_pos[lo:hi]) - shift[lo:hi]
         assert np.array_equal(motion[lo:hi, :3], d) and not motion[lo:hi, 3].any()
         assert (np.delete(motion, np.s_[lo:hi], axis=0) == 7.0).all()
-        assert np.array_equal(spread, np.r_[d.min(0), d.max(0), 0.0])
+        assert np.array_equal(spread, np.r_[d.min(0), d.max(0), 0.0, 0.0])
     for bad in (np.nan, np.inf, -np.inf):
         moved = pos.copy()
         moved[30, 2] = bad
-        spread = np.zeros(7)
-        sphere_motions(0, 512, moved, bound_pos, shift, np.zeros((n, 4)), spread)
+        spread = np.zeros(SPREAD)
+        sphere_motions(0, 512, moved, bound_pos, shift, 1.0, np.zeros((n, 4)), spread)
         assert spread[6] == np.inf
 
 

@@ -75,3 +75,24 @@ def test_engines_assigned_during_a_sub_stepped_step_take_over_at_the_next(yade):
     assert y.O.subStep == -1
     y.O.step()
     assert y.O.subStep == 0 and len(y.O._nextEngines) == 0 and len(y.O._currEngines) == 3
+
+
+def test_a_body_moved_between_the_collider_and_the_interaction_loop_touches_in_that_step(yade):
+    """Sub-stepping: a sphere moved from Python after the collider's sub-step, onto another of its potential
+    pairs, is in contact with it after the interaction loop's sub-step, as in YADE (the loop evaluates the pair
+    where the bodies are then): the motions the collider's check left for the loop do not outlive the sub-step
+    (granum.core.scene.Scene.take_contacts)."""
+    y = yade
+    y.O.bodies.append([y.sphere((0, 0, 0), 1.0), y.sphere((2.4, 0, 0), 1.0)])   # bounds overlap: 1.5 + 1.5 > 2.4
+    y.O.engines = frict_engines(y)
+    y.O.dt = 1e-6
+    y.O.step()
+    assert not y.O.interactions[0, 1].isReal
+    y.O.subStepping = True
+    y.O.step()   # the step's beginning
+    y.O.step()   # ForceResetter
+    y.O.step()   # the collider: nothing moved, no run
+    assert y.O.subStep == 2 and y.O.engines[1].numAction == 1
+    y.O.bodies[1].state.pos = (1.95, 0, 0)   # 0.45 from its bound's position: within the Verlet distance, 0.5
+    y.O.step()   # the interaction loop
+    assert y.O.interactions[0, 1].isReal

@@ -15,8 +15,7 @@ import math
 import numpy as np
 
 from granum._codegen import import_line, load_module
-from granum._jit import BLOCK, PARALLEL_THRESHOLD, VECTOR_MIN_ITEMS, jit, kernel, prange
-from granum.core.arrays import S_VERLET
+from granum._jit import BLOCK, jit, kernel, prange
 from granum.core.records import borrow
 from granum.core.shapes import ShapeKind
 from granum.kernels.dispatch import bound_call
@@ -64,10 +63,18 @@ def body_displacement(i, S):
 
 
 @jit(inline="always")  # per body and step: no call
-def body_motion(i, S):
-    """How far any point of body ``i`` may have moved since its bound was computed [m]."""
-    dx, dy, dz, w = body_displacement(i, S)
+def motion_length(dx, dy, dz, w):
+    """How far any point of a body may have moved since its bound was computed [m], from its
+    :func:`body_displacement` ``(dx, dy, dz, w)``."""
     return math.sqrt(dx * dx + dy * dy + dz * dz) + w
+
+
+@jit(inline="always")  # per body and step: no call
+def left_bound(d, verlet):
+    """Whether a body that may have moved by ``d`` [m] (:func:`motion_length`) since its bound was computed left
+    that bound enlarged by ``verlet`` [m], which makes the collider run (a zero Verlet distance: any motion; NaN
+    counts)."""
+    return (d > verlet) | ((verlet == 0.0) & (d > 0.0)) | (d != d)
 
 
 @jit(inline="always")  # per candidate pair: no call
@@ -99,59 +106,6 @@ def sphere_shift(i, pos, bound_pos):
     """:func:`body_displacement`'s centre part for body ``i`` of flat (3 n,) views of positions and bound
     positions [m]."""
     return pos[3 * i] - bound_pos[3 * i], pos[3 * i + 1] - bound_pos[3 * i + 1], pos[3 * i + 2] - bound_pos[3 * i + 2]
-
-
-@jit
-def spheres_left(lo, hi, pos, bound_pos, verlet):
-    """How many of the bodies lo..hi-1, all :func:`live_bounded_spheres`, left their bound enlarged by ``verlet``
-    [m]: :func:`moved_block`'s test for each (its rotation term is zero), counted in a loop LLVM vectorizes."""
-    n = hi - lo
-    p, q = pos[lo:hi].reshape(3 * n), bound_pos[lo:hi].reshape(3 * n)
-    count = 0
-    for i in range(n):
-        dx, dy, dz = sphere_shift(i, p, q)
-        d = math.sqrt(dx * dx + dy * dy + dz * dz) + 0.0   # body_motion adds the rotation term, 0.0
-        count += (d > verlet) | ((verlet == 0.0) & (d > 0.0)) | (d != d)
-    return count
-
-
-@jit
-def moved_block(b, S, nb, flags):
-    """Flag block ``b`` of bodies if one of them left its Verlet-enlarged bound."""
-    verlet = S.scal[S_VERLET]
-    lo, hi = b * BLOCK, min(nb, (b + 1) * BLOCK)
-    if hi - lo >= VECTOR_MIN_ITEMS and live_bounded_spheres(lo, hi, S.alive, S.shape_kind, S.bound_min, S.bound_max):
-        flags[b] = spheres_left(lo, hi, S.pos, S.bound_pos, verlet) > 0
-        return
-    for i in range(lo, hi):
-        d = body_motion(i, S)
-        if d > verlet or (verlet == 0.0 and d > 0.0) or not d == d:
-            flags[b] = 1
-            return
-    flags[b] = 0
-
-
-def _moved_blocks(S, nb, flags):
-    queue = block_queue(flags.shape[0])
-    for w in prange(queue_workers(queue)):
-        b = next_block(queue, w, -1)
-        while b >= 0:
-            moved_block(b, S, nb, flags)
-            b = next_block(queue, w, b)
-
-
-moved_blocks, moved_blocks_par = kernel(_moved_blocks, over="bodies")
-
-
-@jit
-def any_body_moved(S, nb, flags):
-    """Whether some body left its Verlet-enlarged bound since the collider last ran; ``flags`` (blocks of
-    bodies,) uint8: scratch, one flag a block."""
-    if nb < PARALLEL_THRESHOLD:
-        moved_blocks(S, nb, flags)
-    else:
-        moved_blocks_par(S, nb, flags)
-    return flags.any()
 
 
 @jit

@@ -38,6 +38,7 @@ from granum.core.contacts import (
     C_CONTACTS,
     C_ERR_A,
     C_ERR_B,
+    C_MOTIONS_FRESH,
     C_PAIRS,
     C_REPLACED,
     C_STATUS,
@@ -52,14 +53,21 @@ from granum.core.contacts import (
 )
 from granum.core.records import RecordSpec, borrow, raw
 from granum.core.shapes import ShapeKind
-from granum.kernels.bounds import any_body_moved, bounds_overlap, compute_bounds, compute_bounds_par
+from granum.kernels.bounds import bounds_overlap, compute_bounds, compute_bounds_par
 from granum.kernels.collider_append import append_bodies
 from granum.kernels.collider_periodic import find_pairs_periodic
 from granum.kernels.copy import copy_rows
-from granum.kernels.motion import budgets_from_now, carry_budgets, carry_budgets_par
+from granum.kernels.motion import (
+    any_body_moved,
+    budgets_from_now,
+    carry_budgets,
+    carry_budgets_par,
+    motion_words,
+    take_motions,
+)
 from granum.kernels.pairing import masks_may_refuse, may_collide, scratch_width
 from granum.kernels.schedule import block_queue, next_block, queue_workers
-from granum.kernels.scratch import area, take_u1, words_u1
+from granum.kernels.scratch import area
 from granum.kernels.sorting import argsort_keys, lower_bound, median
 from granum.kernels.static import Static, static_switch, static_value
 
@@ -625,7 +633,7 @@ def _cell_pairs(cell, S, nb, avoid_self, allow_bigger, pairs_before):
     return aperiodic
 
 
-def appended_run(appends, S, C, nb, bound_code, bound_tab, verlet_dist, avoid_self, flags):
+def appended_run(appends, S, C, nb, bound_code, bound_tab, verlet_dist, avoid_self, motion, spread):
     """The collider's run for bodies only appended (:func:`granum.kernels.collider_append.append_bodies`); for
     ``appends``, a static ``("appends", bool)``: whether an engine of the plan adds bodies as the run goes.
     Without one, always False, and the stage compiles no code for it."""
@@ -633,7 +641,7 @@ def appended_run(appends, S, C, nb, bound_code, bound_tab, verlet_dist, avoid_se
 
 
 @jit
-def nothing_appended(S, C, nb, bound_code, bound_tab, verlet_dist, avoid_self, flags):
+def nothing_appended(S, C, nb, bound_code, bound_tab, verlet_dist, avoid_self, motion, spread):
     """:func:`appended_run` in a plan without an engine that adds bodies: never such a run."""
     return False
 
@@ -653,6 +661,9 @@ class ColliderParams(NamedTuple):
     #: ``("appends", bool)``: an engine of the plan adds bodies as the run goes (a factory): the collider's run for
     #: appended bodies is compiled (:func:`appended_run`)
     appends: Static
+    #: the next engine is an InteractionLoop: when the collider does not run, it leaves the bodies' motions its check
+    #: computed for it (``C_MOTIONS_FRESH``, :func:`granum.kernels.motion.take_motions`)
+    feeds_motions: bool
 
 
 @jit
@@ -661,22 +672,27 @@ def collider_stage(S, C, P):
     bound_code, bound_tab = P.bound_code, P.bound_tab
     nb = S.iscal[SI_NBODIES]
     periodic = S.iscal[SI_PERIODIC] != 0
-    nblocks = (nb + BLOCK - 1) // BLOCK
-    flags, _ = take_u1(area(C, words_u1(nblocks)), 0, nblocks)  # from the work area (granum.kernels.scratch)
+    C.ctr[C_MOTIONS_FRESH] = 0
+    # the bodies' motions, at the start of the work area (granum.kernels.scratch), where the interaction loop takes
+    # them
+    motion, spread, _ = take_motions(area(C, motion_words(nb)), nb)
     R = raw(S)  # loops over bodies read the scene through a raw view (see granum.core.records)
     if C.ctr[C_COLLIDE] == COLLIDE_APPENDED and not periodic and appended_run(
-            P.appends, R, C, nb, bound_code, bound_tab, P.verlet_dist, P.avoid_self, flags):
+            P.appends, R, C, nb, bound_code, bound_tab, P.verlet_dist, P.avoid_self, motion, spread):
         return
-    if C.ctr[C_COLLIDE] == 0 and not any_body_moved(R, nb, flags) and not (
-            periodic and cell_moved(S, S.scal[S_VERLET])):
-        return
+    if C.ctr[C_COLLIDE] == 0 and not any_body_moved(R, nb, motion, spread):
+        if not (periodic and cell_moved(S, S.scal[S_VERLET])):
+            # no run: the motions stand for this step's interaction loop, when it comes next (one pass over the
+            # bodies instead of two: see ARCHITECTURE.md, "Collider")
+            C.ctr[C_MOTIONS_FRESH] = P.feeds_motions
+            return
     pairs_before = C.ctr[C_PAIRS]
     # a run because bodies moved, not a scene edit: the pairs found again keep their budgets, measured from the
     # present, where the bounds are taken now (granum.kernels.motion.carry_budgets; before the reference unit
     # changes); in periodic cells the images' budgets move with the cell: evaluated again
     carry = C.ctr[C_COLLIDE] == 0 and not periodic and pairs_before > 0
     if carry:
-        budgets_from_now(R, C, nb)
+        budgets_from_now(R, C, motion)   # the check's motions (a run because bodies moved)
         old_ids, old_gap = C.pair_ids, C.pair_gap
     else:
         old_ids, old_gap = np.zeros((0, 2), np.int32), np.zeros(0, np.float32)

@@ -27,7 +27,8 @@ from granum._jit import jit
 from granum.core.arrays import S_VERLET
 from granum.core.contacts import C_COLLIDE, C_COLLIDER_RUNS, C_PAIRS, C_REPLACED, I_PAIR
 from granum.core.shapes import ShapeKind
-from granum.kernels.bounds import any_body_moved, bound_body, bounds_overlap
+from granum.kernels.bounds import bound_body, bounds_overlap
+from granum.kernels.motion import any_body_moved
 from granum.kernels.pairing import may_collide
 from granum.kernels.sorting import argsort_keys
 
@@ -143,19 +144,20 @@ def merge_pairs(C, added):
 
 
 @jit
-def append_bodies(S, C, nb, bound_code, bound_tab, verlet_dist, avoid_self, flags):
+def append_bodies(S, C, nb, bound_code, bound_tab, verlet_dist, avoid_self, motion, spread):
     """The collider's run when bodies were only appended since the last one (aperiodic scenes): bound the new
     bodies, merge their pairs into the list and return True; or change nothing and return False when a full run
     is due anyway: no body or more than :data:`APPEND_MAX` to add, another Verlet distance, or a listed body that
     left its bound. ``S``: a raw view of the scene; ``verlet_dist``, ``avoid_self``: the collider's
-    (:class:`granum.kernels.collider.ColliderParams`); ``flags``: scratch of :func:`any_body_moved`."""
+    (:class:`granum.kernels.collider.ColliderParams`); ``motion``, ``spread``: the pieces of
+    :func:`granum.kernels.motion.any_body_moved`."""
     new = appended_bodies(S, nb)
     if new.shape[0] == 0 or new.shape[0] > APPEND_MAX or not same_verlet(S, new, verlet_dist):
         return False
     out = np.empty(6)
     for i in new:
         bound_body(i, S, bound_code, bound_tab, S.scal[S_VERLET], out)
-    if any_body_moved(S, nb, flags):   # the new bodies have not moved since: only the others count
+    if any_body_moved(S, nb, motion, spread):   # the new bodies have not moved since: only the others count
         return False
     merge_pairs(C, new_pairs(S, nb, new, avoid_self))
     C.ctr[C_COLLIDE] = 0

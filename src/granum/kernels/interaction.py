@@ -52,6 +52,7 @@ from granum.core.contacts import (
     C_DEAD,
     C_ERR_A,
     C_ERR_B,
+    C_MOTIONS_FRESH,
     C_PAIRS,
     C_REPLACED,
     C_STATUS,
@@ -92,9 +93,11 @@ from granum.kernels.motion import (
     body_motions_par,
     budget_f32,
     motion_bound,
+    motion_words,
     quick_bound,
     reference_length,
     reorigin,
+    take_motions,
 )
 from granum.kernels.prefetch import prefetch_row
 from granum.kernels.schedule import block_queue, next_block, queue_workers, thread_count
@@ -859,22 +862,20 @@ def interaction_stage(S, C, P):
     law_code, law_tab, pair_ok = P.law_code, P.law_tab, P.pair_ok
     widen_contacts(C, P.width)
     nb = S.iscal[SI_NBODIES]
-    nblocks = (nb + BLOCK - 1) // BLOCK
     pair_blocks = (C.ctr[C_PAIRS] + BLOCK - 1) // BLOCK
     workers = thread_count()
     # the temporaries of detection, then those of the update, from the work area (granum.kernels.scratch)
-    w = area(C, nb * 4 + nblocks * 7 + pair_blocks * 3 + words_i4(workers * BLOCK))
+    w = area(C, motion_words(nb) + pair_blocks * 3 + words_i4(workers * BLOCK))
     R = raw(S)  # hot loops read the records through raw views (see granum.core.records)
     V = raw(C)
-    motion, at = take_f8(w, 0, nb * 4)
-    motion = rows_of(motion, 4)
-    spread, at = take_f8(w, at, nblocks * 7)
-    spread = rows_of(spread, 7)
+    motion, spread, at = take_motions(w, nb)
     hits, at = take_i8(w, at, pair_blocks * 3)
     hits = rows_of(hits, 3)  # detection writes every block's row
     lists, at = take_i4(w, at, workers * BLOCK)
     lists = rows_of(lists, BLOCK)
-    if nb < PARALLEL_THRESHOLD:
+    if V.ctr[C_MOTIONS_FRESH]:   # the collider's check, right before, left them (granum.kernels.collider)
+        V.ctr[C_MOTIONS_FRESH] = 0
+    elif nb < PARALLEL_THRESHOLD:
         body_motions(R, nb, motion, spread)
     else:
         body_motions_par(R, nb, motion, spread)

@@ -4,7 +4,8 @@ detection's origin, and the budgets a collider run carries over.
 A potential pair without a contact holds a budget (``pair_gap``) and a reference motion (``pair_ref``): while
 the relative motion of its two bodies measured from there stays below the budget they cannot touch, and the
 detection (:func:`granum.kernels.interaction.detect_block`) does not evaluate their geometry. This module computes
-the motions the budgets are compared with (:func:`body_motions`), the bound of every pair's motion
+the motions the budgets are compared with (:func:`body_motions`; the collider's trigger counts on the way the
+bodies that left their bound, :func:`any_body_moved`), the bound of every pair's motion
 (:func:`motion_bound`, :func:`quick_bound`), and moves the origin the motions are measured from to the present,
 each budget measured again from there: within a step when many pairs have outgrown their budgets
 (:func:`reorigin`), and when the collider runs because bodies moved, for the pairs it finds again
@@ -18,12 +19,19 @@ import math
 import numpy as np
 
 from granum._jit import BLOCK, PARALLEL_THRESHOLD, VECTOR_MIN_ITEMS, jit, kernel, prange
-from granum.core.arrays import S_PAIR_REF_UNIT, S_TURN_ALLOWANCE, S_TURN_SEEN, SI_PERIODIC
+from granum.core.arrays import S_PAIR_REF_UNIT, S_TURN_ALLOWANCE, S_TURN_SEEN, S_VERLET, SI_PERIODIC
 from granum.core.contacts import C_PAIRS
 from granum.core.records import borrow, raw
-from granum.kernels.bounds import body_displacement, body_reach, live_bounded_spheres, sphere_shift
+from granum.kernels.bounds import (
+    body_displacement,
+    body_reach,
+    left_bound,
+    live_bounded_spheres,
+    motion_length,
+    sphere_shift,
+)
 from granum.kernels.schedule import block_queue, next_block, queue_workers
-from granum.kernels.scratch import area, rows_of, take_f8
+from granum.kernels.scratch import rows_of, take_f8
 
 
 @jit(inline="always")  # per candidate pair: no call
@@ -54,23 +62,32 @@ def budget_f32(x):
     return below if g > x else g
 
 
+#: columns of a block's row of ``spread`` (:func:`motion_block`): the least and the greatest displacement per axis, the
+#: greatest rotation term, and how many of its bodies left their bound enlarged by the Verlet distance
+SPREAD = 8
+
+
 @jit
 def motion_block(b, S, nb, motion, spread):
     """Rows of ``motion`` (nb, 4) for the bodies of block ``b``: displacement since the collider ran, less the
     detection's shift (``detect_shift``: zero until :func:`reorigin`), and rotation times reach
-    (:func:`granum.kernels.bounds.body_displacement`); in ``spread[b]`` (7,) the
+    (:func:`granum.kernels.bounds.body_displacement`); in ``spread[b]`` (:data:`SPREAD`,) the
     least and the greatest displacement per axis and the greatest rotation term of its live bodies
-    (inf when one of them is not finite)."""
+    (inf when one of them is not finite), and how many of its bodies left their bound enlarged by the Verlet
+    distance (``scal[S_VERLET]``: the collider's trigger, :func:`any_body_moved`)."""
     lo, hi = b * BLOCK, min(nb, (b + 1) * BLOCK)
+    verlet = S.scal[S_VERLET]
     if hi - lo >= VECTOR_MIN_ITEMS and live_bounded_spheres(lo, hi, S.alive, S.shape_kind, S.bound_min, S.bound_max):
-        sphere_motions(lo, hi, S.pos, S.bound_pos, S.detect_shift, motion, spread[b])
+        sphere_motions(lo, hi, S.pos, S.bound_pos, S.detect_shift, verlet, motion, spread[b])
         return
     lo_x = lo_y = lo_z = math.inf  # scalars, not lists: a list would live on the heap
     hi_x = hi_y = hi_z = -math.inf
     w_max = 0.0
+    left = 0
     alive, shift = S.alive, S.detect_shift
     for i in range(lo, hi):
         dx, dy, dz, w = body_displacement(i, S)
+        left += left_bound(motion_length(dx, dy, dz, w), verlet)
         dx, dy, dz = dx - shift[i, 0], dy - shift[i, 1], dz - shift[i, 2]
         motion[i, 0] = dx
         motion[i, 1] = dy
@@ -84,19 +101,22 @@ def motion_block(b, S, nb, motion, spread):
     spread[b, 0], spread[b, 1], spread[b, 2] = lo_x, lo_y, lo_z
     spread[b, 3], spread[b, 4], spread[b, 5] = hi_x, hi_y, hi_z
     spread[b, 6] = w_max
+    spread[b, 7] = left
 
 
 @jit
-def sphere_motions(lo, hi, pos, bound_pos, shift, motion, spread):
+def sphere_motions(lo, hi, pos, bound_pos, shift, verlet, motion, spread):
     """:func:`motion_block` for the bodies lo..hi-1, all :func:`live_bounded_spheres` (no rotation term): the same
-    rows of ``motion`` and the same ``spread`` (7,), from loops over flat views without a branch: what the per-body
-    path branches on (shape, life, bound) is tested once for the block (the falling ball's 4,428 bodies: 23.5 ->
-    19-20 us)."""
+    rows of ``motion`` and the same ``spread`` (:data:`SPREAD`,), from loops over flat views without a branch:
+    what the per-body path branches on (shape, life, bound) is tested once for the block (the falling ball's 4,428
+    bodies: 23.5 -> 19-20 us). ``verlet`` [m]: the Verlet distance of the bounds."""
     n = hi - lo
     p, q, m = pos[lo:hi].reshape(3 * n), bound_pos[lo:hi].reshape(3 * n), motion[lo:hi].reshape(4 * n)
     s = shift[lo:hi].reshape(3 * n)
+    left = 0
     for i in range(n):
         dx, dy, dz = sphere_shift(i, p, q)
+        left += left_bound(motion_length(dx, dy, dz, 0.0), verlet)   # no rotation term
         m[4 * i] = dx - s[3 * i]
         m[4 * i + 1] = dy - s[3 * i + 1]
         m[4 * i + 2] = dz - s[3 * i + 2]
@@ -112,6 +132,7 @@ def sphere_motions(lo, hi, pos, bound_pos, shift, motion, spread):
     spread[0], spread[1], spread[2] = lo_x, lo_y, lo_z
     spread[3], spread[4], spread[5] = hi_x, hi_y, hi_z
     spread[6] = 0.0 if finite == n else math.inf   # NaN or inf somewhere: no bound (as motion_block)
+    spread[7] = left
 
 
 def _body_motions(S, nb, motion, spread):
@@ -124,6 +145,40 @@ def _body_motions(S, nb, motion, spread):
 
 
 body_motions, body_motions_par = kernel(_body_motions, over="bodies")
+
+
+@jit(inline="always")  # a few instructions: no call
+def take_motions(w, nb):
+    """The pieces :func:`body_motions` fills, from the start of the work area ``w`` (:mod:`granum.kernels.scratch`):
+    ``(motion, spread, at)``, ``motion`` (nb, 4), ``spread`` (blocks of bodies, :data:`SPREAD`), ``at`` the word
+    after them. At the start, so that the interaction loop finds there what the collider's check left
+    (:func:`any_body_moved`)."""
+    nblocks = (nb + BLOCK - 1) // BLOCK
+    motion, at = take_f8(w, 0, nb * 4)
+    spread, at = take_f8(w, at, nblocks * SPREAD)
+    return rows_of(motion, 4), rows_of(spread, SPREAD), at
+
+
+@jit(inline="always")  # a few instructions: no call
+def motion_words(nb):
+    """Work-area words of :func:`take_motions`' pieces for ``nb`` bodies."""
+    return nb * 4 + (nb + BLOCK - 1) // BLOCK * SPREAD
+
+
+@jit
+def any_body_moved(S, nb, motion, spread):
+    """Whether some body left its Verlet-enlarged bound since the collider last ran (the collider's trigger), from
+    :func:`body_motions`, which fills ``motion`` and ``spread`` (:func:`take_motions`) on the way: the
+    interaction loop right after the collider reads them instead of computing them again
+    (``C_MOTIONS_FRESH``). ``S``: a raw view of the scene."""
+    if nb < PARALLEL_THRESHOLD:
+        body_motions(S, nb, motion, spread)
+    else:
+        body_motions_par(S, nb, motion, spread)
+    for b in range(spread.shape[0]):
+        if spread[b, 7] > 0.0:
+            return True
+    return False
 
 
 @jit
@@ -258,21 +313,11 @@ def quick_bound(S, extent, turn):
 
 
 @jit
-def budgets_from_now(S, C, nb):
+def budgets_from_now(S, C, motion):
     """Every pair's budget measured from its bodies' present relative displacement, with a zero reference
     (:func:`reorigin_pair_block`): what the collider calls before it bounds the bodies again where they are now
-    (aperiodic scenes, a run because bodies moved), for :func:`carry_budgets`. The bodies' motions come from
-    the work area. ``S``: a raw view, ``C``: the contacts' record."""
-    nblocks = (nb + BLOCK - 1) // BLOCK
-    w = area(C, nb * 4 + nblocks * 7)
-    motion, at = take_f8(w, 0, nb * 4)
-    motion = rows_of(motion, 4)
-    spread, at = take_f8(w, at, nblocks * 7)
-    spread = rows_of(spread, 7)
-    if nb < PARALLEL_THRESHOLD:
-        body_motions(S, nb, motion, spread)
-    else:
-        body_motions_par(S, nb, motion, spread)
+    (aperiodic scenes, a run because bodies moved), for :func:`carry_budgets`. ``motion``: the bodies' motions
+    its check (:func:`any_body_moved`) has just computed. ``S``: a raw view, ``C``: the contacts' record."""
     V = raw(C)
     if V.ctr[C_PAIRS] < PARALLEL_THRESHOLD:
         reorigin_pairs(S, V, motion)

@@ -15,10 +15,12 @@ takes its pieces one after the other with the ``take_*`` functions::
 The work area is the contact record's ``scratch`` (float64, 1-D), grown by half at least when a step
 needs more, so that it is replaced O(log n) times in a run. It is not state: checkpoints leave it out
 (:attr:`granum.core.records.RecordSpec.transient`), and a piece holds whatever an earlier stage left
-there, so a stage zeroes what must start at zero. The area and its pieces are *borrowed*
-(:func:`granum.core.records.borrow`): no reference to them is counted, which spares a step two atomic
-operations per piece and per function a piece is passed to (26 increments and as many decrements a step
-in a two-body scene, each 7-9 ns on a 2-core Xeon). So they are valid until the next call of
+there (a larger area starts with the words of the one it replaces: the interaction loop finds the motions
+the collider's check left, :func:`granum.kernels.motion.take_motions`), so a stage zeroes what must start at
+zero. The area and its pieces are *borrowed* (:func:`granum.core.records.borrow`): no reference to them is
+counted, which spares a step two atomic operations per piece and per function a piece is passed to (26
+increments and as many decrements a step in a two-body scene, each 7-9 ns on a 2-core Xeon). So they are
+valid until the next call of
 :func:`area`, which may replace the array: use no piece after a later :func:`area` call. Take the raw
 view of the record (:func:`granum.core.records.raw`) after :func:`area` too, which may replace one of
 its arrays.
@@ -38,10 +40,12 @@ from granum.core.records import borrow
 
 @jit(inline="always")  # a few instructions: no call
 def area(C, words):
-    """``C.scratch`` with room for at least ``words`` float64 words (replaced by a larger array if needed), borrowed:
-    valid until the next call (see the module docstring)."""
+    """``C.scratch`` with room for at least ``words`` float64 words (replaced by a larger array holding the same words
+    first if needed), borrowed: valid until the next call (see the module docstring)."""
     if C.scratch.shape[0] < words:
-        C.scratch = np.empty(max(words, C.scratch.shape[0] + C.scratch.shape[0] // 2))
+        grown = np.empty(max(words, C.scratch.shape[0] + C.scratch.shape[0] // 2))
+        grown[:C.scratch.shape[0]] = C.scratch
+        C.scratch = grown
         C.ctr[C_REPLACED] += 1
     return borrow(C.scratch)
 
