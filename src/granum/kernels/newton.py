@@ -326,6 +326,24 @@ def all_plain(lo, hi, alive, clump_id, body_mask, mask, blocked, aspherical, sha
     return count == n
 
 
+@jit(inline="always")
+def _plain_rates(n, p, v, f, w, t, inert, mass, is_damped, gravity, dt, damping, damp_gravity):
+    """:func:`plain_block`'s new velocities and positions (:func:`_plain_move`), then angular velocities
+    (:func:`_plain_spin_rate`), of its ``n`` bodies (flat (3 n,) views)."""
+    g0, g1, g2 = gravity[0], gravity[1], gravity[2]
+    for i in range(n):
+        m = mass[i]
+        d = damping if is_damped[i] else 0.0
+        _plain_move(3 * i, m, g0, d, damp_gravity, p, v, f, dt)
+        _plain_move(3 * i + 1, m, g1, d, damp_gravity, p, v, f, dt)
+        _plain_move(3 * i + 2, m, g2, d, damp_gravity, p, v, f, dt)
+    for i in range(n):
+        d = damping if is_damped[i] else 0.0
+        _plain_spin_rate(3 * i, d, w, t, inert, dt)
+        _plain_spin_rate(3 * i + 1, d, w, t, inert, dt)
+        _plain_spin_rate(3 * i + 2, d, w, t, inert, dt)
+
+
 @jit
 def plain_block(lo, hi, pos, vel, ori, ang_vel, force, torque, mass, inertia, is_damped, gravity, dt, damping,
                 damp_gravity):
@@ -345,18 +363,11 @@ def plain_block(lo, hi, pos, vel, ori, ang_vel, force, torque, mass, inertia, is
     w, t, inert = ang_vel2.reshape(3 * n), torque[lo:hi].reshape(3 * n), inertia[lo:hi].reshape(3 * n)
     o = ori2.reshape(4 * n)
     mass, is_damped = mass[lo:hi], is_damped[lo:hi]
-    g0, g1, g2 = gravity[0], gravity[1], gravity[2]
-    for i in range(n):
-        m = mass[i]
-        d = damping if is_damped[i] else 0.0
-        _plain_move(3 * i, m, g0, d, damp_gravity, p, v, f, dt)
-        _plain_move(3 * i + 1, m, g1, d, damp_gravity, p, v, f, dt)
-        _plain_move(3 * i + 2, m, g2, d, damp_gravity, p, v, f, dt)
-    for i in range(n):
-        d = damping if is_damped[i] else 0.0
-        _plain_spin_rate(3 * i, d, w, t, inert, dt)
-        _plain_spin_rate(3 * i + 1, d, w, t, inert, dt)
-        _plain_spin_rate(3 * i + 2, d, w, t, inert, dt)
+    if damping == 0.0:   # the damping a constant, which LLVM folds away: the same bits (a factor 1.0), fewer
+        # operations (stand-alone, 4,428 bodies, one thread: at rest 6.9 -> 5.7 ns a body, spinning 10.9 -> 9.6)
+        _plain_rates(n, p, v, f, w, t, inert, mass, is_damped, gravity, dt, 0.0, damp_gravity)
+    else:
+        _plain_rates(n, p, v, f, w, t, inert, mass, is_damped, gravity, dt, damping, damp_gravity)
     turning = outside = 0
     limit = RENORM_SERIES_MAX - TURN_NORM_MARGIN
     for i in range(n):
