@@ -256,10 +256,10 @@ def test_a_moved_detection_origin_misses_no_touching_pair(yade):
 
 
 def test_the_motions_the_collider_leaves_are_those_the_interaction_loop_computes(yade):
-    """The collider's check computes every body's motion; the interaction loop right after it reads them
-    (``feeds_motions``) instead of computing them again. The dropped cluster with the standard engine order, and
-    with the ForceResetter between the collider and the loop (the same physics, the loop computes its own motions):
-    the same bits after its impact, where contacts began and ended and the collider ran again."""
+    """The collider's check computes every body's motion; the interaction loop right after it reads them instead of
+    computing them again. The dropped cluster with the standard engine order, and with the ForceResetter between
+    the collider and the loop (the same physics, the loop computes its own motions): the same bits after its
+    impact, where contacts began and ended and the collider ran again."""
     O = yade.O
     states = []
     for order in ((0, 1, 2, 3), (1, 0, 2, 3)):
@@ -270,11 +270,46 @@ def test_the_motions_the_collider_leaves_are_those_the_interaction_loop_computes
         b = O._scene.bodies
         n = b.count
         states.append((b.pos[:n].copy(), b.vel[:n].copy(), b.ang_vel[:n].copy(), _contacts(O),
-                       O.engines[order.index(1)].params(O._scene, list(O.engines)).feeds_motions,
                        O.engines[order.index(1)].numAction))
     fed, own = states
-    assert fed[4] and not own[4]
-    assert fed[5] == own[5] >= 3 and len(fed[3]) >= 20
+    assert fed[4] == own[4] >= 3 and len(fed[3]) >= 20
     for a, b in zip(fed[:3], own[:3], strict=True):
         assert np.array_equal(a.view(np.int64), b.view(np.int64))
     assert fed[3] == own[3]
+
+
+@pytest.mark.parametrize("next_stage", [True, False])
+def test_the_interaction_loop_takes_the_collider_s_motions_only_as_the_next_stage(yade, next_stage):
+    """The stages called one by one from Python, as the step loop numbers them (``C_STAGE``): two spheres whose
+    bounds overlap, the second moved into the first after a step, by less than the Verlet distance (no collider
+    run). Its check leaves the motions with its stage's number; they are then replaced by zeros (as if nothing had
+    moved). The loop called as the next stage takes them, sees no motion and leaves the pair untested; called as
+    a later one (another stage between), it computes the motions itself and the spheres touch."""
+    from granum._jit import call
+    from granum.core.contacts import C_COLLIDER_RUNS, C_MOTIONS_STAGE, C_STAGE, CONTACTS
+    from granum.kernels.collider import collider_stage
+    from granum.kernels.interaction import interaction_stage
+    from granum.kernels.motion import motion_words
+
+    O = yade.O
+    O.bodies.append([yade.sphere((0, 0, 0), 1.0), yade.sphere((2.4, 0, 0), 1.0)])   # bounds: 1.5 + 1.5 > 2.4
+    O.engines = frict_engines(yade)
+    O.dt = 1e-6
+    O.step()
+    assert not O.interactions[0, 1].isReal and O.engines[1].numAction == 1
+    O.bodies[1].state.pos = (1.95, 0, 0)   # 0.45 from its bound's position: within the Verlet distance, 0.5
+    scene = O._scene
+    engines = list(O.engines)
+    S, C = scene.arrays(), scene.contacts_record()
+    ctr = scene.contacts.ctr
+    ctr[C_STAGE] = 2
+    call(collider_stage, S, C, engines[1].params(scene, engines))
+    assert ctr[C_MOTIONS_STAGE] == 2 and ctr[C_COLLIDER_RUNS] == 1
+    work = CONTACTS.from_record(C).scratch   # the work area: the motions (2, 4) at its start
+    assert work[4:8].tolist() == [1.95 - 2.4, 0.0, 0.0, 0.0]   # sphere 1's row
+    work[:call(motion_words, 2)] = 0.0
+    ctr[C_STAGE] = 3 if next_stage else 4
+    call(interaction_stage, S, C, engines[2].params(scene, engines))
+    scene.take_contacts(C)
+    assert ctr[C_MOTIONS_STAGE] == 0
+    assert O.interactions[0, 1].isReal != next_stage

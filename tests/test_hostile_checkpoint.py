@@ -115,7 +115,10 @@ def test_an_out_of_range_functor_code_is_refused_before_any_kernel_is_built(yade
     (_set("scene/contacts/ctr", C_CONTACTS, 10 ** 6), ("interaction counters exceed their arrays",)),
     (_set("scene/iscal", SI_HOOK, 10 ** 6), ("engine hook index out of range",)),
     (lambda meta, arrays: meta["scene"]["bodies"]["table"].__setitem__("count", 10 ** 6), ("rows in a capacity",)),
-], ids=["contact counter", "engine hook", "body count"])
+    # the per-body index is built in place when read stale (b.intrs() right after the load)
+    (lambda meta, arrays: arrays.__setitem__("scene/contacts/csr_con", arrays["scene/contacts/csr_con"][:1]),
+     ("per-body contact index shorter than the contacts",)),
+], ids=["contact counter", "engine hook", "body count", "per-body index"])
 def test_counters_beyond_their_arrays_are_refused(yade, saved, tmp_path, edit, words):
     _refused(yade, _crafted(saved, tmp_path, edit), *words)
 

@@ -93,14 +93,19 @@ def test_orientations_off_unit_at_the_renormalization_limit(excess):
     assert_same_bits(vectorized, reference)
 
 
-def test_the_first_exploding_or_non_finite_body_is_returned():
+@pytest.mark.parametrize("damping", [0.2, 0.0, -0.0])
+def test_the_first_exploding_or_non_finite_body_is_returned(damping):
+    """Also the bits of the non-finite values themselves, and of zeros of either sign (an angular velocity of -0.0,
+    a torque of -0.0), with and without damping (undamped, the loops run with the damping a constant)."""
     state = random_state(100, 4)
     state[1][40] = (2e8, 0.0, 0.0)       # exploding
     state[0][30, 2] = np.nan             # not finite, and first
-    vectorized, reference, returned = step_both(state, 0, 100, 1, np.array([0.0, 0.0, -9.81]), 1e-3, 0.2, False)
+    state[3][50] = (-0.0, 0.0, -0.0)     # angular velocity
+    state[5][50] = (0.0, -0.0, -0.0)     # torque
+    state[5][60, 1] = np.inf
+    vectorized, reference, returned = step_both(state, 0, 100, 1, np.array([0.0, 0.0, -9.81]), 1e-3, damping, False)
     assert returned == [(30, 30)]
-    for x, y in zip(vectorized, reference, strict=True):
-        assert np.array_equal(x, y, equal_nan=True)
+    assert_same_bits(vectorized, reference)
 
 
 def test_all_plain_refuses_what_the_plain_steps_do_not_cover():

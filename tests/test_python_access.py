@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from conftest import frict_engines
 
-from granum.core.contacts import C_CONTACTS, C_PAIRS, F_FN, FLAG_ALIVE, I_FLAGS, I_ID1, I_ID2, I_PAIR
+from granum.core.contacts import C_CONTACTS, C_CSR_DIRTY, C_PAIRS, F_FN, FLAG_ALIVE, I_FLAGS, I_ID1, I_ID2, I_PAIR
 from granum.yade import interactions as intr_module
 
 
@@ -112,14 +112,14 @@ def test_intrs_and_withBody_in_row_order_through_steps_erasures_and_appends(yade
         scene = y.O._scene
         C = scene.contacts
         covered = C.csr_start.shape[0] == scene.body_count + 1
-        stale += C.ctr[3] != 0
+        stale += C.ctr[C_CSR_DIRTY] != 0
         for b in range(len(y.O.bodies)):
             want = _rows_with(y, b)
             assert [(i.id1, i.id2) for i in y.O.bodies[b].intrs()] == want
             assert [(i.id1, i.id2) for i in y.O.interactions.withBody(b)] == want
             if covered:
                 assert intr_module.body_contact_rows(scene, b).base is C.csr_con
-                assert not C.ctr[3]
+                assert not C.ctr[C_CSR_DIRTY]
         C_used += covered
     assert C_used == 39 and stale > 0
     assert y.O.interactions.withBody(-1) == y.O.interactions.withBody(10 ** 6) == []   # YADE 2023.02a crashes

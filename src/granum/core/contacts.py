@@ -186,9 +186,10 @@ C_ERR_A = 6        # first value describing the error (body id or code)
 C_ERR_B = 7        # second value describing the error
 C_COLLIDER_RUNS = 8
 C_REPLACED = 9     # times compiled code replaced one of the storage's arrays (pair list, grown pool or work area)
-C_MOTIONS_FRESH = 10  # the work area holds the bodies' motions of this step, for the interaction loop right after the
-                      # collider (granum.kernels.motion.take_motions); cleared when the kernels hand the contacts back
-NCTR = 11
+C_MOTIONS_STAGE = 10  # the stage (its C_STAGE) whose check left the bodies' motions at the start of the work area, for
+                      # the interaction loop if it is the next stage (granum.kernels.motion.take_motions); 0: none
+C_STAGE = 11       # stages called since the step loop was entered (granum.kernels.steploop counts them)
+NCTR = 12
 
 #: ``ctr[C_COLLIDE]``: 0 the collider runs when a body left its bound; COLLIDE_FULL at the next step, every body
 #: bounded again and the pair list rebuilt (a scene edit); COLLIDE_APPENDED at the next step, and bodies were only

@@ -35,7 +35,6 @@ from granum.core.bodies import BORN_COLUMNS, new_body_table
 from granum.core.contacts import (
     C_COLLIDE,
     C_CONTACTS,
-    C_MOTIONS_FRESH,
     C_REPLACED,
     COLLIDE_APPENDED,
     COLLIDE_FULL,
@@ -348,9 +347,6 @@ class Scene(BodyStore):
             C = tuple.__new__(type(C), C)
         else:
             C = CONTACTS.from_record(record)
-        # motions a collider's check left for the interaction loop after it hold only within one compiled run:
-        # Python may move bodies before the loop runs (sub-stepping)
-        C.ctr[C_MOTIONS_FRESH] = 0
         self.contacts = C
         self._contacts_record = (C, record, C.ctr.item(C_REPLACED))
 

@@ -169,8 +169,3 @@ class PeriodicEngine(GlobalEngine):
         if self.iterPeriod > 0:
             return max(self.iterLast + self.iterPeriod, self.firstIterRun)
         return None
-
-
-def live_engines(engines) -> list:
-    """The engines a step runs, in order: the live ones, a ParallelEngine replaced by its live slaves."""
-    return [s for e in engines for s in e.in_place()]

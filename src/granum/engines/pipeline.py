@@ -15,7 +15,7 @@ import numpy as np
 from granum.core.attrs import Attr, edit_token, instance_of, note_assignment, only_default, to_bool, to_float, to_int
 from granum.core.contacts import TOTALS, contact_width, shared_columns
 from granum.core.shapes import ShapeKind
-from granum.engines.base import GlobalEngine, live_engines
+from granum.engines.base import GlobalEngine
 from granum.engines.functors import check_role, functor_table
 from granum.kernels.collider import ColliderParams
 from granum.kernels.dispatch import code_of, functors
@@ -183,15 +183,7 @@ class InsertionSortCollider(GlobalEngine):
                               verlet_dist=float(self.verletDist), avoid_self=int(self.avoidSelfInteractionMask),
                               allow_bigger=bool(self.allowBiggerThanPeriod),
                               cell=Static(("cell", bool(scene.periodic))),
-                              appends=Static(("appends", any(getattr(e, "adds_bodies", False) for e in engines))),
-                              feeds_motions=_next_engine(self, engines, InteractionLoop))
-
-
-def _next_engine(engine, engines, cls) -> bool:
-    """Whether the engine that runs after ``engine`` in a step of ``engines`` (:func:`live_engines`) is a ``cls``."""
-    live = live_engines(engines)
-    at = next((k for k, e in enumerate(live) if e is engine), None)
-    return at is not None and at + 1 < len(live) and isinstance(live[at + 1], cls)
+                              appends=Static(("appends", any(getattr(e, "adds_bodies", False) for e in engines))))
 
 
 def python_sided(functors) -> bool:

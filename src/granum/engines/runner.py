@@ -33,7 +33,7 @@ from granum.core.contacts import (
 )
 from granum.core.records import Record
 from granum.engines import interrupts
-from granum.engines.base import PeriodicEngine, live_engines
+from granum.engines.base import PeriodicEngine
 from granum.engines.status import status_message
 from granum.kernels import steploop
 from granum.kernels.cell import advance_clock, step_begin
@@ -156,6 +156,11 @@ def _type_key(value):
     if value is None or type(value) in (bool, int, float):
         return type(value)
     return numba.typeof(value)
+
+
+def live_engines(engines) -> list:
+    """The engines a step runs, in order: the live ones, a ParallelEngine replaced by its live slaves."""
+    return [s for e in engines for s in e.in_place()]
 
 
 def plan_key(engines) -> tuple:

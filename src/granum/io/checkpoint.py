@@ -531,6 +531,8 @@ def scene_check(scene: Scene, source: str) -> None:
     _range(C.con_i[:ncon, I_PAIR], -1, npair, "contact pair", source)
     for role, col in _CODE_COLUMNS.items():
         _range(C.con_i[:ncon, col], -1, len(functors(role)), f"contact {role} functor code", source)
+    if len(C.csr_con) < 2 * len(C.con_i):   # the per-body index is built in place (granum.kernels.interaction)
+        raise CheckpointError(f"{source}: corrupt checkpoint (per-body contact index shorter than the contacts)")
     if not C.ctr[C_CSR_DIRTY] and len(C.csr_start) == n + 1:
         start = C.csr_start
         if np.any(np.diff(start) < 0) or start[0] < 0 or start[-1] > len(C.csr_con):

@@ -38,9 +38,10 @@ from granum.core.contacts import (
     C_CONTACTS,
     C_ERR_A,
     C_ERR_B,
-    C_MOTIONS_FRESH,
+    C_MOTIONS_STAGE,
     C_PAIRS,
     C_REPLACED,
+    C_STAGE,
     C_STATUS,
     COLLIDE_APPENDED,
     FLAG_ALIVE,
@@ -661,9 +662,6 @@ class ColliderParams(NamedTuple):
     #: ``("appends", bool)``: an engine of the plan adds bodies as the run goes (a factory): the collider's run for
     #: appended bodies is compiled (:func:`appended_run`)
     appends: Static
-    #: the next engine is an InteractionLoop: when the collider does not run, it leaves the bodies' motions its check
-    #: computed for it (``C_MOTIONS_FRESH``, :func:`granum.kernels.motion.take_motions`)
-    feeds_motions: bool
 
 
 @jit
@@ -672,7 +670,7 @@ def collider_stage(S, C, P):
     bound_code, bound_tab = P.bound_code, P.bound_tab
     nb = S.iscal[SI_NBODIES]
     periodic = S.iscal[SI_PERIODIC] != 0
-    C.ctr[C_MOTIONS_FRESH] = 0
+    C.ctr[C_MOTIONS_STAGE] = 0
     # the bodies' motions, at the start of the work area (granum.kernels.scratch), where the interaction loop takes
     # them
     motion, spread, _ = take_motions(area(C, motion_words(nb)), nb)
@@ -682,9 +680,9 @@ def collider_stage(S, C, P):
         return
     if C.ctr[C_COLLIDE] == 0 and not any_body_moved(R, nb, motion, spread):
         if not (periodic and cell_moved(S, S.scal[S_VERLET])):
-            # no run: the motions stand for this step's interaction loop, when it comes next (one pass over the
-            # bodies instead of two: see ARCHITECTURE.md, "Collider")
-            C.ctr[C_MOTIONS_FRESH] = P.feeds_motions
+            # no run: the motions stand for the interaction loop if it is the next stage (one pass over the bodies
+            # instead of two: see ARCHITECTURE.md, "Collider")
+            C.ctr[C_MOTIONS_STAGE] = C.ctr[C_STAGE]
             return
     pairs_before = C.ctr[C_PAIRS]
     # a run because bodies moved, not a scene edit: the pairs found again keep their budgets, measured from the

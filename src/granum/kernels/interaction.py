@@ -11,7 +11,8 @@ Each step:
 3. Every contact updates its geometry, gets its physics constants if new, and runs
    its law (parallel over contacts, each writing only its own row).
 4. Contacts ended by their law are unlinked from their pair by the block that updated
-   them; the per-body contact index (CSR) is rebuilt when the contact set changed.
+   them; the per-body contact index (CSR) is marked stale when the contact set changed (its next reader
+   rebuilds it: the gather below, the stages that read a body's contacts, :func:`index_contacts`).
 5. Forces and torques are gathered per body through the CSR index, in increasing
    contact order: the sums are the same whatever the number of threads. Where the
    stage updates the contacts on one thread (one thread in all, or fewer contacts than
@@ -52,9 +53,10 @@ from granum.core.contacts import (
     C_DEAD,
     C_ERR_A,
     C_ERR_B,
-    C_MOTIONS_FRESH,
+    C_MOTIONS_STAGE,
     C_PAIRS,
     C_REPLACED,
+    C_STAGE,
     C_STATUS,
     F_E_DISSIP,
     F_E_ELAST,
@@ -873,12 +875,15 @@ def interaction_stage(S, C, P):
     hits = rows_of(hits, 3)  # detection writes every block's row
     lists, at = take_i4(w, at, workers * BLOCK)
     lists = rows_of(lists, BLOCK)
-    if V.ctr[C_MOTIONS_FRESH]:   # the collider's check, right before, left them (granum.kernels.collider)
-        V.ctr[C_MOTIONS_FRESH] = 0
-    elif nb < PARALLEL_THRESHOLD:
-        body_motions(R, nb, motion, spread)
-    else:
-        body_motions_par(R, nb, motion, spread)
+    # the motions the collider's check left when it ran as the stage just before (granum.kernels.collider), else
+    # computed here
+    left_by = V.ctr[C_MOTIONS_STAGE]
+    V.ctr[C_MOTIONS_STAGE] = 0
+    if not (left_by > 0 and left_by == V.ctr[C_STAGE] - 1):
+        if nb < PARALLEL_THRESHOLD:
+            body_motions(R, nb, motion, spread)
+        else:
+            body_motions_par(R, nb, motion, spread)
     extent, turn = motion_bound(R, spread)
     bound = quick_bound(S, extent, turn)
     if V.ctr[C_PAIRS] < PARALLEL_THRESHOLD:

@@ -7,10 +7,10 @@ memory-info bookkeeping took about a fifth of the step (``perf``), and at 1e6 bo
 MB faulted its pages in again each step. Instead a stage asks :func:`area` for the words it needs and
 takes its pieces one after the other with the ``take_*`` functions::
 
-    w = area(C, nb * 4 + nblocks)
+    w = area(C, nb * 4 + pair_blocks * 3)
     motion, at = take_f8(w, 0, nb * 4)
     motion = rows_of(motion, 4)   # (nb, 4)
-    flags, at = take_u1(w, at, nblocks)
+    hits, at = take_i8(w, at, pair_blocks * 3)
 
 The work area is the contact record's ``scratch`` (float64, 1-D), grown by half at least when a step
 needs more, so that it is replaced O(log n) times in a run. It is not state: checkpoints leave it out
@@ -20,10 +20,9 @@ the collider's check left, :func:`granum.kernels.motion.take_motions`), so a sta
 zero. The area and its pieces are *borrowed* (:func:`granum.core.records.borrow`): no reference to them is
 counted, which spares a step two atomic operations per piece and per function a piece is passed to (26
 increments and as many decrements a step in a two-body scene, each 7-9 ns on a 2-core Xeon). So they are
-valid until the next call of
-:func:`area`, which may replace the array: use no piece after a later :func:`area` call. Take the raw
-view of the record (:func:`granum.core.records.raw`) after :func:`area` too, which may replace one of
-its arrays.
+valid until the next call of :func:`area`, which may replace the array: use no piece after a later
+:func:`area` call. Take the raw view of the record (:func:`granum.core.records.raw`) after :func:`area` too,
+which may replace one of its arrays.
 """
 
 from __future__ import annotations
@@ -57,12 +56,6 @@ def words_i4(n):
 
 
 @jit(inline="always")  # a few instructions: no call
-def words_u1(n):
-    """Words holding ``n`` bytes."""
-    return (n + 7) // 8
-
-
-@jit(inline="always")  # a few instructions: no call
 def take_f8(w, at, n):
     """``n`` float64 values of the work area ``w`` from word ``at`` (1-D), and the word after them."""
     return piece(w, at, n, np.float64), at + n
@@ -78,12 +71,6 @@ def take_i8(w, at, n):
 def take_i4(w, at, n):
     """``n`` int32 values from word ``at`` (1-D), and the word after them."""
     return piece(w, at, n, np.int32), at + words_i4(n)
-
-
-@jit(inline="always")  # a few instructions: no call
-def take_u1(w, at, n):
-    """``n`` bytes from word ``at`` (1-D), and the word after them."""
-    return piece(w, at, n, np.uint8), at + words_u1(n)
 
 
 @intrinsic
