@@ -23,6 +23,10 @@ link and optimise the code of every stage into it once more.
 With ``timing`` (``O.timingEnabled``) each stage adds its run time [ns] and one run to
 its row of ``times`` (int64, (stages, 2)), in engine order.
 
+The loop counts the stages it calls in ``ctr[C_STAGE]``, from zero at each call of ``run_steps`` (which also
+clears ``ctr[C_MOTIONS_STAGE]``): a stage can leave something for the very next one and tell it apart from
+what an older stage left (the collider's bodies' motions, for the interaction loop).
+
 ``PP`` is the tuple of the stages' parameters (named tuples), in engine order. Both functions
 borrow its arrays (:func:`granum.core.records.borrow`; the Python caller owns them),
 so that passing parameters down to parallel loops counts no references.
