@@ -56,6 +56,41 @@ def test_parallel_loops_over_records_take_blocks_from_a_queue_with_one_call_each
     assert not bad, f"prange loops must take blocks from a queue and run each in one call (numba#7135): {bad}"
 
 
+def _is_compiled(fn):
+    return any(ast.unparse(d).split("(")[0] == "jit" for d in fn.decorator_list)
+
+
+def _is_number(node):
+    if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
+        node = node.operand
+    return isinstance(node, ast.Constant) and isinstance(node.value, (int, float))
+
+
+def test_compiled_functions_copy_arrays_into_slices_with_loops():
+    """Assigning an array to a slice (``a[:n] = b``, ``a[i, :] = row``) makes Numba compile a broadcast check whose
+    error message formats the shapes: string conversions, concatenation, about 2.5 s of a first run's compiling
+    (``scratch.area`` had one: the bouncing sphere's first run on one process compiled 301 functions, 265
+    without it). Kernels copy with :mod:`granum.kernels.copy`; filling a slice with a number compiles no check."""
+    found, bad = 0, []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        tree = ast.parse(path.read_text(), str(path))
+        for fn in ast.walk(tree):
+            if not (isinstance(fn, ast.FunctionDef) and _is_compiled(fn)):
+                continue
+            found += 1
+            for node in ast.walk(fn):
+                if not isinstance(node, (ast.Assign, ast.AugAssign)):
+                    continue
+                for target in node.targets if isinstance(node, ast.Assign) else [node.target]:
+                    index = getattr(target, "slice", None)
+                    parts = index.elts if isinstance(index, ast.Tuple) else [index]
+                    if isinstance(target, ast.Subscript) and any(isinstance(e, ast.Slice) for e in parts) \
+                            and not _is_number(node.value):
+                        bad.append(f"{path.relative_to(PACKAGE)}:{node.lineno} ({fn.name}): {ast.unparse(node)}")
+    assert found >= 300, "the compiled functions were not found"
+    assert not bad, f"copy arrays into slices with granum.kernels.copy's loops: {bad}"
+
+
 LATTICE = """
 import numpy
 n = 17  # 4913 spheres: above PARALLEL_THRESHOLD, so the parallel kernels run

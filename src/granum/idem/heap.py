@@ -15,6 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from granum._jit import jit
+from granum.kernels.copy import copy_items
 
 
 @jit
@@ -106,7 +107,7 @@ def collect(keys, heap, size, limit, out, stack):
                 top += 1
     # sorted by index: the order fixes the summation order of the group's impulses
     if n > 32:
-        out[:n] = np.sort(out[:n])
+        copy_items(out, np.sort(out[:n]), n)
         return n
     for u in range(1, n):
         v = out[u]

@@ -58,6 +58,7 @@ import numpy as np
 from granum._jit import jit
 from granum.idem import heap as hp
 from granum.idem.rigid import k_apply
+from granum.kernels.copy import copy_items
 from granum.physics.vec import add, cross, dot, load3, matvec, norm, scale, sub
 
 # slots of the per-step statistics array
@@ -357,7 +358,7 @@ def resolve(e, mu, alpha0, tol, tie, mode, max_rounds, max_iter, ba, bb, ra, rb,
             break
         if mode == SIMULTANEOUS:
             nm = nc
-            members[:] = everything
+            copy_items(members, everything, nc)
         for m in range(nm):
             Wc[members[m]] = 0.0
         stamp = _compress(members, nm, tol_v, alpha0, tie, mu, max_iter, ba, bb, ra, rb, nrm, fixed, invm, invI,

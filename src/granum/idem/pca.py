@@ -29,6 +29,7 @@ import math
 import numpy as np
 
 from granum._jit import jit
+from granum.kernels.copy import copy_to_row
 
 
 @jit
@@ -136,7 +137,7 @@ def surface_normals(points, surface, radius, com, normals, sigma):
             m = 1
             for t in range(ns):
                 if sidx[t] != i and d2[t] <= r2:
-                    nb[m, :] = points[sidx[t]]
+                    copy_to_row(nb, m, points[sidx[t]])
                     m += 1
         else:  # too sparse: the 3 nearest surface particles (ties broken by index)
             order = np.argsort(d2, kind="mergesort")
@@ -144,11 +145,11 @@ def surface_normals(points, surface, radius, com, normals, sigma):
             m = 1
             for t in order:
                 if sidx[t] != i:
-                    nb[m, :] = points[sidx[t]]
+                    copy_to_row(nb, m, points[sidx[t]])
                     m += 1
                     if m == 4:
                         break
-        nb[0, :] = points[i]
+        copy_to_row(nb, 0, points[i])
         nv, s = pca_normal(nb)
         # outward: away from the centroid of every particle (interior ones too) around i
         off = np.zeros(3)

@@ -28,6 +28,7 @@ from granum.core.arrays import S_VERLET
 from granum.core.contacts import C_COLLIDE, C_COLLIDER_RUNS, C_PAIRS, C_REPLACED, I_PAIR
 from granum.core.shapes import ShapeKind
 from granum.kernels.bounds import bound_body, bounds_overlap
+from granum.kernels.copy import copy_rows
 from granum.kernels.motion import any_body_moved
 from granum.kernels.pairing import may_collide
 from granum.kernels.sorting import argsort_keys
@@ -84,7 +85,7 @@ def new_pairs(S, nb, new, avoid_self):
             if bounds_overlap(S, a, j) and may_collide(S, min(a, j), max(a, j), avoid_self):
                 if k == found.shape[0]:
                     grown = np.empty((2 * k, 2), np.int32)
-                    grown[:k] = found
+                    copy_rows(grown, found, k)
                     found = grown
                 found[k, 0] = min(a, j)
                 found[k, 1] = max(a, j)

@@ -35,6 +35,7 @@ from numba.extending import intrinsic
 from granum._jit import jit
 from granum.core.contacts import C_REPLACED
 from granum.core.records import borrow
+from granum.kernels.copy import copy_items
 
 
 @jit(inline="always")  # a few instructions: no call
@@ -43,7 +44,7 @@ def area(C, words):
     first if needed), borrowed: valid until the next call (see the module docstring)."""
     if C.scratch.shape[0] < words:
         grown = np.empty(max(words, C.scratch.shape[0] + C.scratch.shape[0] // 2))
-        grown[:C.scratch.shape[0]] = C.scratch
+        copy_items(grown, C.scratch, C.scratch.shape[0])
         C.scratch = grown
         C.ctr[C_REPLACED] += 1
     return borrow(C.scratch)
