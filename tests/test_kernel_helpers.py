@@ -13,7 +13,7 @@ import pytest
 from conftest import frict_engines
 
 from granum.core.contacts import CONTACTS, new_contact_arrays
-from granum.kernels.copy import copy_items, copy_row, copy_rows, copy_to_row
+from granum.kernels.copy import copy_items, copy_rows, copy_to_row
 from granum.kernels.schedule import (
     block_queue,
     fetch_add,
@@ -67,8 +67,6 @@ def test_copies_equal_slice_assignment():
     assert (dst1[:7] == src1[:7]).all() and (dst1[7:] == -1).all()
     copy_to_row(dst2, 6, np.arange(5.0))
     assert (dst2[6] == np.arange(5.0)).all()
-    copy_row(dst2, 7, 0)
-    assert (dst2[7] == dst2[0]).all()
 
 
 def test_prefetching_gather_gives_the_same_forces(yade):

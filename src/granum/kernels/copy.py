@@ -31,10 +31,3 @@ def copy_to_row(a, i, row):
     """``a[i, :] = row`` for a 2-D array and a 1-D array ``row``."""
     for j in range(a.shape[1]):
         a[i, j] = row[j]
-
-
-@jit
-def copy_row(a, dst_row, src_row):
-    """``a[dst_row, :] = a[src_row, :]`` for a 2-D array."""
-    for j in range(a.shape[1]):
-        a[dst_row, j] = a[src_row, j]
