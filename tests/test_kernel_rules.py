@@ -1,10 +1,11 @@
-"""Rules the compiled kernels must follow for Numba to compile them correctly.
+"""Rules the compiled kernels must follow for Numba to compile them correctly and cheaply.
 
 Numba loses writes made through the fields of a record or named tuple directly in the body of a
 ``prange`` loop (numba#7135: the parallel loop works on copies of the tuple's arrays). Every parallel
 loop over the scene (functions taking the records ``S`` or ``C``) therefore hands its blocks out
 through a queue (:mod:`granum.kernels.schedule`) and does the work of a block in exactly one call,
-to a function: writes inside a called function are kept.
+to a function: writes inside a called function are kept. Kernels also copy arrays with loops, never by slice
+assignment, whose broadcast check compiles Numba's string formatting into every first run.
 """
 
 from __future__ import annotations
