@@ -78,8 +78,9 @@ def _is_number(node):
     return isinstance(node, ast.Constant) and isinstance(node.value, (int, float))
 
 
-def _stores_into_slices(node):
-    """The targets of the assignment ``node`` whose index has a slice or ``...`` (tuple targets unpacked)."""
+def _stores_into_a_slice(node):
+    """Whether the assignment ``node`` stores into a target whose index has a slice or ``...`` (tuple targets
+    unpacked)."""
     targets = node.targets if isinstance(node, ast.Assign) else [node.target]
     while any(isinstance(t, ast.Tuple) for t in targets):
         targets = [e for t in targets for e in (t.elts if isinstance(t, ast.Tuple) else [t])]
@@ -87,7 +88,8 @@ def _stores_into_slices(node):
         if isinstance(target, ast.Subscript):
             parts = target.slice.elts if isinstance(target.slice, ast.Tuple) else [target.slice]
             if any(isinstance(e, ast.Slice) or isinstance(e, ast.Constant) and e.value is Ellipsis for e in parts):
-                yield target
+                return True
+    return False
 
 
 def test_compiled_functions_copy_arrays_into_slices_with_loops():
@@ -105,9 +107,7 @@ def test_compiled_functions_copy_arrays_into_slices_with_loops():
             for node in ast.walk(fn):
                 if not isinstance(node, (ast.Assign, ast.AugAssign)):
                     continue
-                if isinstance(node, ast.Assign) and _is_number(node.value):
-                    continue
-                for _ in _stores_into_slices(node):
+                if not (isinstance(node, ast.Assign) and _is_number(node.value)) and _stores_into_a_slice(node):
                     bad.append(f"{path.relative_to(PACKAGE)}:{node.lineno} ({fn.name}): {ast.unparse(node)}")
     assert found >= 300, "the compiled functions were not found"
     assert not bad, f"copy arrays into slices with granum.kernels.copy's loops: {bad}"
