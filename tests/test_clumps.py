@@ -109,3 +109,40 @@ def test_clump_errors(yade):
         yade.O.bodies.clump([7])
     with pytest.raises(ValueError):
         yade.O.bodies.clump([])
+
+
+def test_a_clump_made_during_a_run_is_integrated_as_one_body(yade):
+    """A run of spheres only, whose integrator is compiled without the clumps' paths (``NewtonParams.aspherical``),
+    meets a clump that a PyRunner between ForceResetter and NewtonIntegrator makes: within that very step the
+    integrator moves the members with the clump (v_m = v_c + w x (x_m - x_c)), and from then on their distances
+    stay and the angular momentum is conserved exactly (no torque, no damping)."""
+    O = yade.O
+    O.bodies.append([yade.sphere((0, 0, 0), 0.1), yade.sphere((0.15, 0, 0.05), 0.08)])
+    O.bodies[0].state.vel = (1, 0, 0)
+    O.bodies[1].state.vel = (0, 2, 0)   # not a rigid motion: the clump takes the members' momenta
+    O.engines = [yade.ForceResetter(),
+                 yade.PyRunner(iterPeriod=1, command="O.bodies.clump([0, 1]) if O.iter == 5 else None"),
+                 yade.NewtonIntegrator(damping=0)]
+    O.dt = 1e-4
+    O.run(5, True)
+    assert len(O.bodies) == 2
+    O.run(1, True)
+    clump = O.bodies[2]
+    assert clump.isClump
+
+    def members_rigid():
+        xc, vc, wc = (np.asarray(v) for v in (clump.state.pos, clump.state.vel, clump.state.angVel))
+        for i in (0, 1):
+            b = O.bodies[i]
+            np.testing.assert_allclose(np.asarray(b.state.vel), vc + np.cross(wc, np.asarray(b.state.pos) - xc),
+                                       atol=1e-12)
+
+    assert np.linalg.norm(np.asarray(clump.state.angVel)) > 1   # the clump spins: its members' velocities differ
+    members_rigid()
+    L0 = np.asarray(clump.state.angMom).copy()
+    d0 = np.linalg.norm(np.asarray(O.bodies[0].state.pos) - np.asarray(O.bodies[1].state.pos))
+    O.run(200, True)
+    members_rigid()
+    np.testing.assert_array_equal(np.asarray(clump.state.angMom), L0)
+    assert np.linalg.norm(np.asarray(O.bodies[0].state.pos) - np.asarray(O.bodies[1].state.pos)) == pytest.approx(
+        d0, abs=1e-12)

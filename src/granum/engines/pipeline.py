@@ -21,7 +21,7 @@ from granum.kernels.collider import ColliderParams
 from granum.kernels.dispatch import code_of, functors
 from granum.kernels.forces import GravityParams
 from granum.kernels.interaction import InteractionParams
-from granum.kernels.newton import NewtonParams, vectorized
+from granum.kernels.newton import NewtonParams, aspherical_paths, vectorized
 from granum.kernels.static import Static
 from granum.mathtypes import Matrix3, Vector3, as_vec3
 from granum.physics import registry
@@ -360,14 +360,21 @@ class NewtonIntegrator(GlobalEngine):
 
     def params_key(self, scene, held: list) -> tuple:
         """The integrator's parameters are its attributes' values (the gravity vector read, not its edit count: a
-        vector changed in place counts too) and whether the scene is large enough for the vectorized steps."""
+        vector changed in place counts too), whether the scene is large enough for the vectorized steps and
+        whether it holds clumps or aspherical bodies."""
         return (self.damping, self.gravity._a.tolist(), self.dampGravity, self.mask,
-                vectorized(scene.body_count).value)
+                vectorized(scene.body_count).value, _aspherical_paths(scene).value)
 
     def params(self, scene, engines) -> NewtonParams:
         return NewtonParams(gravity=np.array(self.gravity._a, dtype=np.float64), damping=float(self.damping),
                             damp_gravity=bool(self.dampGravity), mask=int(self.mask),
-                            vectorized=vectorized(scene.body_count))
+                            vectorized=vectorized(scene.body_count), aspherical=_aspherical_paths(scene))
+
+
+def _aspherical_paths(scene) -> Static:
+    """:attr:`NewtonParams.aspherical <granum.kernels.newton.NewtonParams.aspherical>` of ``scene``."""
+    bodies = scene.bodies
+    return aspherical_paths(scene.shapes[ShapeKind.CLUMP].count, bodies.stored("aspherical")[:bodies.count])
 
 
 class GravityEngine(GlobalEngine):
