@@ -55,7 +55,6 @@ import tempfile
 import zipfile
 import zlib
 from xml.etree import ElementTree as ET
-from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
@@ -341,6 +340,9 @@ def xml_to_tree(el: ET.Element):
 
 
 def _xml_write(f, header: dict, arrays: dict) -> None:
+    # imported here: xml.sax.saxutils imports urllib.request, http.client and ssl, about 10 ms of every start
+    from xml.sax.saxutils import quoteattr
+
     f.write(b'<?xml version="1.0" encoding="utf-8"?>\n')
     f.write(f'<{FORMAT_TAG} format="{FORMAT_TAG}" version="{FORMAT_VERSION}" digest="{header["digest"]}">\n'
             .encode())

@@ -20,7 +20,6 @@ from __future__ import annotations
 import os
 import sys
 import zlib
-from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
@@ -32,6 +31,14 @@ VTK_LINE = 3
 VTK_TRIANGLE = 5
 VTK_POLYGON = 7
 VTK_QUAD = 9
+
+
+def quoteattr(text: str) -> str:
+    """``text`` as a quoted XML attribute value (:func:`xml.sax.saxutils.quoteattr`, imported on first use: that
+    module imports urllib.request, http.client and ssl, about 10 ms of every start)."""
+    from xml.sax.saxutils import quoteattr as quote
+
+    return quote(text)
 
 
 def polygon_type(nvertices: int) -> int:
