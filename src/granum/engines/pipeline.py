@@ -348,7 +348,9 @@ class NewtonIntegrator(GlobalEngine):
         "damping": Attr(0.2, "Non-viscous damping coefficient lambda_d [-]", to_float("damping")),
         "gravity": Attr(Vector3(0, 0, 0), "Gravitational acceleration [m/s^2]", to_vec3),
         "maxVelocitySq": Attr(0.0, "Accepted for compatibility", to_float("maxVelocitySq")),
-        "exactAsphericalRot": Attr(True, "Integrate aspherical bodies with Euler's equations", to_bool),
+        "exactAsphericalRot": Attr(True, "Integrate aspherical bodies with Euler's equations (YADE's False, which "
+                                         "turns them as spheres, is not implemented yet: only True)",
+                                   only_default("exactAsphericalRot", True)),
         "warnNoForceReset": Attr(True, "Accepted for compatibility", to_bool),
         "kinSplit": Attr(False, "Kinetic energy split in translation and rotation (not implemented yet: only False)",
                          only_default("kinSplit", False)),

@@ -33,7 +33,7 @@ VTK_POLYGON = 7
 VTK_QUAD = 9
 
 
-def quoteattr(text: str) -> str:
+def _quoteattr(text: str) -> str:
     """``text`` as a quoted XML attribute value (:func:`xml.sax.saxutils.quoteattr`, imported on first use: that
     module imports urllib.request, http.client and ssl, about 10 ms of every start)."""
     from xml.sax.saxutils import quoteattr as quote
@@ -83,7 +83,7 @@ class _Writer:
         ncomp = 1 if arr.ndim <= 1 else int(np.prod(arr.shape[1:]))
         attrs = f'type="{vtk_type}"'
         if name is not None:
-            attrs += f" Name={quoteattr(name)}"
+            attrs += f" Name={_quoteattr(name)}"
         attrs += f' NumberOfComponents="{ncomp}"'
         if self.ascii:
             if vtk_type == "Float64":
@@ -192,7 +192,7 @@ def write_pvd(path, entries) -> None:
         rel = os.path.relpath(os.path.abspath(name), base)
         if sys.platform == "win32":
             rel = rel.replace("\\", "/")
-        rows.append(f'    <DataSet timestep="{float(t)!r}" group="" part="0" file={quoteattr(rel)}/>')
+        rows.append(f'    <DataSet timestep="{float(t)!r}" group="" part="0" file={_quoteattr(rel)}/>')
     write_text(path, "\n".join(['<?xml version="1.0"?>',
                                 '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">',
                                 "  <Collection>", *rows, "  </Collection>", "</VTKFile>", ""]))

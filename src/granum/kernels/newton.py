@@ -40,7 +40,7 @@ from granum.core.records import raw
 from granum.core.shapes import ShapeKind
 from granum.kernels.schedule import block_queue, next_block, queue_workers
 from granum.kernels.scratch import area, rows_of, take_f8, take_i8
-from granum.kernels.static import Static, static_switch
+from granum.kernels.static import Static, static_bool, static_switch
 from granum.physics.vec import (
     RENORM_SERIES_MAX,
     ROTVEC_SERIES_MAX2,
@@ -189,37 +189,37 @@ def clump_place(i, S):
             S.ori[m, k] = qm[k]
 
 
-def gather_clump(aspherical, i, S):
-    """:func:`clump_gather` where the scene may hold clumps (``aspherical``, a static ``("aspherical", bool)``
-    made by :func:`aspherical_paths`); where it holds none, nothing, and the clumps' and aspherical bodies' code is
-    not compiled (:func:`no_clump`, :func:`no_aspherical`: the stage of a scene of spheres compiled in 2.8-3.0 s
-    instead of 4.0-4.2 s on one process, 2026-12-07)."""
-    raise TypeError("gather_clump is called from compiled kernels only")
+def clump_gather_if(paths, i, S):
+    """:func:`clump_gather` where the scene may hold clumps (``paths``, :attr:`NewtonParams.aspherical`); where it
+    holds none, nothing, and neither the clumps' code nor the aspherical bodies' is compiled (:func:`no_clump`,
+    :func:`no_aspherical`: the stage of a scene of spheres compiled in 2.8-3.0 s instead of 4.0-4.2 s on one
+    process, 2026-12-07)."""
+    raise TypeError("clump_gather_if is called from compiled kernels only")
 
 
-def place_clump(aspherical, i, S):
-    """:func:`clump_place`, or nothing, as :func:`gather_clump`."""
-    raise TypeError("place_clump is called from compiled kernels only")
+def clump_place_if(paths, i, S):
+    """:func:`clump_place`, or nothing, as :func:`clump_gather_if`."""
+    raise TypeError("clump_place_if is called from compiled kernels only")
 
 
-def turn_aspherical(aspherical, i, S, torque, dt):
-    """:func:`integrate_aspherical`, or nothing, as :func:`gather_clump`."""
-    raise TypeError("turn_aspherical is called from compiled kernels only")
+def integrate_aspherical_if(paths, i, S, torque, dt):
+    """:func:`integrate_aspherical`, or nothing, as :func:`clump_gather_if`."""
+    raise TypeError("integrate_aspherical_if is called from compiled kernels only")
 
 
 @jit
 def no_clump(i, S):
-    """:func:`gather_clump` and :func:`place_clump` in a scene without clumps, where no body is one."""
+    """:func:`clump_gather_if` and :func:`clump_place_if` in a scene without clumps (never reached)."""
 
 
 @jit
 def no_aspherical(i, S, torque, dt):
-    """:func:`turn_aspherical` in a scene without aspherical bodies, where no body is one."""
+    """:func:`integrate_aspherical_if` in a scene without aspherical bodies (never reached)."""
 
 
-static_switch(gather_clump, "aspherical", clump_gather, no_clump)
-static_switch(place_clump, "aspherical", clump_place, no_clump)
-static_switch(turn_aspherical, "aspherical", integrate_aspherical, no_aspherical)
+static_switch(clump_gather_if, "aspherical", clump_gather, no_clump)
+static_switch(clump_place_if, "aspherical", clump_place, no_clump)
+static_switch(integrate_aspherical_if, "aspherical", integrate_aspherical, no_aspherical)
 
 
 @jit(inline="always")  # inlined with constant arguments, the branches of the cases not taken vanish
@@ -517,7 +517,7 @@ def newton_block(b, S, nb, P, sums, bad):
         damp_i = damping if is_damped[i] else 0.0
         clump = shape_kind[i] == ShapeKind.CLUMP
         if clump:
-            gather_clump(P.aspherical, i, S)
+            clump_gather_if(P.aspherical, i, S)
         blocked = blocked_dofs[i]
         # periodic cell: bodies follow the homogeneous flow L x (YADE's homoDeform); damping
         # and energies see only the fluctuation v - Lp x
@@ -540,16 +540,18 @@ def newton_block(b, S, nb, P, sums, bad):
             wl = quat_rotate_inv(load4(ori, i), (ang_vel[i, 0], ang_vel[i, 1], ang_vel[i, 2]))
             for k in range(3):
                 kinetic += 0.5 * inertia[i, k] * wl[k] * wl[k]
-        if aspherical[i] and blocked >> 3 == 0:
+        # without the aspherical paths (a body made aspherical from another thread while a run goes on, until the
+        # next chunk), as a sphere
+        if aspherical[i] and blocked >> 3 == 0 and static_bool(P.aspherical):
             if damp_i != 0.0:
                 t = (damp(t[0], ang_vel[i, 0], damping), damp(t[1], ang_vel[i, 1], damping),
                      damp(t[2], ang_vel[i, 2], damping))
-            turn_aspherical(P.aspherical, i, S, t, dt)
+            integrate_aspherical_if(P.aspherical, i, S, t, dt)
         else:
             damp_work = spin(i, ori, ang_vel, t, inertia, dt, blocked, damp_i, track, damp_work, aspherical[i])
         energy = (kinetic, damp_work, grav_work)
         if clump:
-            place_clump(P.aspherical, i, S)
+            clump_place_if(P.aspherical, i, S)
         if not sane(i, pos, vel, ang_vel) and bad[b] < 0:
             bad[b] = i
     sums[b, 0] = energy[0]
@@ -579,8 +581,8 @@ class NewtonParams(NamedTuple):
     #: ``("vectorized", bool)``: plain bodies take :func:`plain_block`'s vectorized steps (:func:`plain_run`);
     #: :func:`vectorized` chooses it
     vectorized: Static
-    #: ``("aspherical", bool)``: some body is aspherical or a clump, and the integrator's paths for them (Euler's
-    #: equations, a clump's gather and placement) are compiled; :func:`aspherical_paths` chooses it
+    #: ``("aspherical", bool)``: the integrator's paths for clumps and aspherical bodies (a clump's gather and
+    #: placement, Euler's equations) are compiled; :func:`aspherical_paths` chooses it
     aspherical: Static
 
 
@@ -596,11 +598,13 @@ def vectorized(body_count: int) -> Static:
 
 
 def aspherical_paths(clumps: int, aspherical: np.ndarray) -> Static:
-    """:attr:`NewtonParams.aspherical` for a scene holding ``clumps`` clumps whose bodies' ``aspherical`` column
-    is ``aspherical``, (N,) bool. Only Python makes a clump or an aspherical body (``O.bodies.clump``, a box,
-    ``b.aspherical = True``): no stage does, and the runner builds the parameters anew before every chunk of
-    steps and every compiled segment of a step run engine by engine, so no stage meets a body its variant cannot
-    step."""
+    """:attr:`NewtonParams.aspherical` for a scene whose clump table has ``clumps`` rows and whose bodies'
+    ``aspherical`` column is ``aspherical``, (N,) bool: True when a clump was ever made or a body (an erased one
+    included) is aspherical, which may compile the paths for nothing, never leave them out for a body that needs
+    them. Only Python makes a clump or an aspherical body (``O.bodies.clump``, a box, ``b.aspherical = True``): no
+    stage does, and the runner builds the parameters anew before every chunk of steps and every compiled segment
+    of a step run engine by engine. A body made aspherical from another thread while a run goes on turns as a
+    sphere until the next chunk (at most ``CHUNK_SECONDS``)."""
     return Static(("aspherical", clumps > 0 or bool(aspherical.any())))
 
 

@@ -73,3 +73,18 @@ def static_switch(stub, kind: str, when_true, when_false) -> None:
             return None
         target = when_true if value[1] else when_false
         return lambda flag, *args: target(*args)
+
+
+def static_bool(flag):
+    """The boolean of a static ``(kind, bool)`` flag (compiled code only), a constant the compiler folds: a branch
+    on it leaves the machine code (the functions it calls are compiled all the same; :func:`static_switch` leaves
+    them out). ``flag`` stands for itself; Python never calls this."""
+    raise TypeError("static_bool is called from compiled kernels only")
+
+
+@overload(static_bool)
+def _static_bool(flag):
+    if isinstance(flag, StaticType) and len(flag.value) == 2 and isinstance(flag.value[1], bool):
+        value = flag.value[1]
+        return lambda flag: value
+    return None
