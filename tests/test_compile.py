@@ -51,6 +51,21 @@ def part_b(a):
 @jit
 def whole(a):   # calls its parts by symbol: their code stays in their own entry points
     return entry_call(part_a, (a,)) + entry_call(part_b, (a,))
+
+
+@jit(shared=True)
+def common(a):   # both parts of the next entry points call it: compiled once, by either process
+    return np.sort(a)[-2] + np.cumsum(a)[1]
+
+
+@jit
+def part_c(a):
+    return np.median(a) + common(a)
+
+
+@jit
+def part_d(a):
+    return float(np.argsort(a, kind="mergesort")[0]) + common(a)
 '''
 
 
@@ -219,6 +234,96 @@ def test_a_failing_second_process_only_costs_time(tmp_path, child):
     out = _run(tmp_path, PARTS.replace("CHILD = None", f"CHILD = {child!r}"), GRANUM_COMPILE_JOBS="2")
     assert "parts from the cache: 0" in out
     assert "value equals NumPy's: True" in out
+
+
+SHARED = '''
+import os, time
+import numpy as np
+from numba.core import event
+import kern
+from granum import _compile, _jit
+a = np.linspace(0.0, 1.0, 7)
+parent = os.getpid()
+
+class Log(event.Listener):   # one line per compiling of the shared function, in either process (at once: the child
+    def on_start(self, ev):  # leaves without Python's exit handlers)
+        pass
+    def on_end(self, ev):
+        if ev.data["dispatcher"].py_func.__name__ == "common":
+            with open("compiled.txt", "a") as f:
+                f.write(f"{os.getpid()}\\n")
+event.register("numba:compile", Log())
+CHILD_DIES = False
+if CHILD_DIES:   # the parent starts late, and the child dies once it has claimed the shared function
+    _compile.MIN_WAIT = 600.0
+    compile_each = _compile.compile_each
+    def late(d, sigs):
+        if os.getpid() == parent:
+            time.sleep(3.0)
+        compile_each(d, sigs)
+    _compile.compile_each = late
+    once = _compile.compile_once
+    def dying(name, compile_here, loaded):
+        def here():
+            if os.getpid() != parent:
+                os._exit(3)
+            compile_here()
+        once(name, here, loaded)
+    _compile.compile_once = dying
+start = time.monotonic()
+_jit.entry_points([(kern.part_c, [(a,)]), (kern.part_d, [(a,)])])
+print("seconds:", time.monotonic() - start)
+print("compilings of the shared function:", len(open("compiled.txt").read().split()))
+reference = np.sort(a)[-2] + np.cumsum(a)[1]
+print("values equal NumPy's:", kern.part_c(a) == np.median(a) + reference, kern.part_d(a) == reference)
+'''
+
+
+@pytest.mark.skipif(sys.platform != "linux", reason="parts are compiled on two processes on Linux only")
+def test_a_shared_function_is_compiled_once_for_both_processes(tmp_path):
+    """Two parts that call the same shared function, compiled on two processes: one of them compiles it (an entry
+    point in the disk cache), the other loads it, and both parts compute with it; on one process it is compiled
+    once too."""
+    two = _run(tmp_path / "two", SHARED, GRANUM_COMPILE_JOBS="2")
+    assert "compilings of the shared function: 1" in two
+    assert "values equal NumPy's: True True" in two
+    one = _run(tmp_path / "one", SHARED, GRANUM_COMPILE_JOBS="1")
+    assert "compilings of the shared function: 1" in one
+    assert "values equal NumPy's: True True" in one
+
+
+@pytest.mark.skipif(sys.platform != "linux", reason="parts are compiled on two processes on Linux only")
+def test_a_process_that_dies_compiling_a_shared_function_leaves_it_to_the_other(tmp_path):
+    """The child claims the shared function and dies: the parent, which waits for it, sees the child gone and
+    compiles the function itself, long before its patience (600 s here) runs out."""
+    out = _run(tmp_path, SHARED.replace("CHILD_DIES = False", "CHILD_DIES = True"), GRANUM_COMPILE_JOBS="2")
+    assert "compilings of the shared function: 1" in out
+    assert "values equal NumPy's: True True" in out
+    assert float(out.split("seconds: ")[1].split()[0]) < 300
+
+
+def test_the_second_part_is_one_that_needs_no_shared_function_of_the_first():
+    """compile_parts orders the parts largest first, but puts second the largest part that reaches no shared
+    function the first one reaches (which the other process compiles meanwhile)."""
+    from granum import _compile
+
+    def function(name, calls, shared=False):
+        namespace = {c.py_func.__name__: c for c in calls}
+        exec(f"def {name}():\n    " + ("; ".join(f"{c.py_func.__name__}()" for c in calls) or "pass"), namespace)
+        namespace[name].__module__ = "granum.example"
+        return SimpleNamespace(py_func=namespace[name], granum_shared=shared)
+
+    for shared in (True, False):
+        motions = function("motions", [], shared)
+        helpers = [function(f"helper{k}", []) for k in range(5)]
+        interaction = function("interaction", [motions, *helpers[:4]])
+        collider = function("collider", [motions, *helpers[2:5]])
+        newton = function("newton", helpers[:2])
+        reset = function("reset", [])
+        parts = [(p, [()]) for p in (reset, newton, collider, interaction)]
+        names = [p.py_func.__name__ for p, _ in _compile.ordered(parts)]
+        assert names == (["interaction", "newton", "collider", "reset"] if shared else
+                         ["interaction", "collider", "newton", "reset"])
 
 
 def test_compile_jobs_setting_is_checked(tmp_path):

@@ -12,14 +12,20 @@ running Python's exit handlers. If it fails or stops making progress, the parent
 compiles what is missing itself, so the outcome never depends on the child. The two
 never write the same cache file: each part is compiled by one of them, and the
 functions below the parts are link-only, never cached on their own
-(:mod:`granum._linking`). Forking is used on Linux only, with two or more cores, when
-no other thread runs Python, and can be switched off with ``GRANUM_COMPILE_JOBS=1``
-(larger values mean 2).
+(:mod:`granum._linking`), but for the few that several stages call (the bodies'
+motions, the sort): each of those is compiled once, by whichever process needs it
+first, as an entry point of its own in the disk cache, and the other process loads
+it (:func:`compile_once`). So that the other process does not need them at the same
+moment, it begins with the largest part that calls none of those the first part calls
+(NewtonIntegrator's stage, while the first compiles the interaction loop's). Forking
+is used on Linux only, with two or more cores, when no other thread runs Python, and
+can be switched off with ``GRANUM_COMPILE_JOBS=1`` (larger values mean 2).
 """
 
 from __future__ import annotations
 
 import contextlib
+import hashlib
 import os
 import signal
 import sys
@@ -41,6 +47,10 @@ _held = threading.local()
 MIN_WAIT = 60.0
 PATIENCE = 3.0
 
+#: While a first run's parts are compiled on two processes: the folder of their claims and a function that says
+#: whether the other process still runs; None otherwise (:func:`compile_once`).
+_sharing: tuple | None = None
+
 
 def processes() -> int:
     """How many processes compile a first run's parts."""
@@ -60,19 +70,72 @@ def is_granum_dispatcher(value) -> bool:
     return getattr(value, "py_func", None) is not None and value.py_func.__module__.startswith("granum")
 
 
-def reach(dispatcher, seen: set | None = None) -> int:
+def reached(dispatcher, found: dict | None = None) -> dict:
+    """The granum functions ``dispatcher`` reaches through its globals, itself included (id -> dispatcher)."""
+    found = {} if found is None else found
+    if id(dispatcher) not in found:
+        found[id(dispatcher)] = dispatcher
+        func = dispatcher.py_func
+        for name in func.__code__.co_names:
+            value = func.__globals__.get(name)
+            if is_granum_dispatcher(value):
+                reached(value, found)
+    return found
+
+
+def reach(dispatcher) -> int:
     """How many granum functions ``dispatcher`` reaches through its globals: how much compiling it costs."""
-    seen = set() if seen is None else seen
-    if id(dispatcher) in seen:
-        return 0
-    seen.add(id(dispatcher))
-    func = dispatcher.py_func
-    total = 1
-    for name in func.__code__.co_names:
-        value = func.__globals__.get(name)
-        if is_granum_dispatcher(value):
-            total += reach(value, seen)
-    return total
+    return len(reached(dispatcher))
+
+
+def shared_reached(dispatcher) -> set:
+    """The ids of the functions compiled once for both processes (:func:`compile_once`: those declared
+    ``shared``, :func:`granum._jit.jit`) that ``dispatcher`` reaches through its globals."""
+    return {k for k, d in reached(dispatcher).items() if getattr(d, "granum_shared", False)}
+
+
+def ordered(todo: list) -> list:
+    """The parts ``todo`` in the order the processes take them: largest first, but second the largest part that
+    reaches none of the shared functions the first reaches, when there is one. The two processes begin with those
+    two: while one compiles the shared functions (early in a stage: the bodies' motions), the other compiles a
+    part that does not need them, and it finds them in the disk cache when its next part does."""
+    todo = sorted(todo, key=lambda p: -reach(p[0]))
+    if len(todo) > 2:
+        first = shared_reached(todo[0][0])
+        apart = next((k for k in range(1, len(todo)) if not shared_reached(todo[k][0]) & first), None)
+        if first and apart is not None:
+            todo.insert(1, todo.pop(apart))
+    return todo
+
+
+def compile_once(name: str, compile_here, loaded) -> None:
+    """``compile_here()`` for a shared function (``name``: it and its argument types, the same in both
+    processes), compiled once while a first run's parts are compiled on two processes: the first process to ask
+    compiles it (an entry point that ``compile_here`` puts in the disk cache); the other waits until it is done,
+    then loads it (``loaded()``: whether it is in the disk cache, loaded now). It compiles it itself if it is not
+    there then, or the first process has gone, or after :data:`MIN_WAIT` seconds. No deadlock: a process waits
+    only while compiling the callers of the function, and the other compiles the function and its callees, never
+    its callers (no recursion on the link-only path)."""
+    sharing = _sharing
+    if sharing is None:
+        compile_here()
+        return
+    folder, other_runs = sharing
+    claim = "once-" + hashlib.sha256(name.encode()).hexdigest()[:32]
+    done = os.path.join(folder, claim + ".done")
+    if _claim(folder, claim):
+        try:
+            compile_here()
+        finally:
+            os.close(os.open(done, os.O_CREAT | os.O_WRONLY))
+        return
+    deadline = time.monotonic() + MIN_WAIT
+    while time.monotonic() < deadline and other_runs():
+        if os.path.exists(done):
+            break
+        time.sleep(0.005)
+    if not loaded():
+        compile_here()
 
 
 def _claim(folder: str, k: int) -> bool:
@@ -96,7 +159,7 @@ def compile_parts(parts: list[tuple[object, list[tuple]]], load_cached) -> None:
     disk cache if it is there and says whether it was (:func:`granum._linking.load_cached`). The caller holds
     the compile lock (:func:`granum._jit.compile_lock`)."""
     todo = [(d, [s for s in sigs if not load_cached(d, s)]) for d, sigs in parts]
-    todo = sorted(((d, s) for d, s in todo if s), key=lambda p: -reach(p[0]))
+    todo = ordered([(d, s) for d, s in todo if s])
     if not todo:
         return
     done = NOTICE(len(todo)) if NOTICE is not None else None
@@ -126,16 +189,19 @@ def announced():
 
 
 def _compile_todo(todo: list[tuple[object, list[tuple]]]) -> None:
-    """Compile the entry points ``todo`` (none in the disk cache, largest first) as :func:`compile_parts` says."""
+    """Compile the entry points ``todo`` (none in the disk cache, :func:`ordered`) as :func:`compile_parts` says."""
     if processes() < 2 or len(todo) < 2 or not _fork_is_safe():
         for d, sigs in todo:
             compile_each(d, sigs)
         return
+    global _sharing
+    parent = os.getpid()
     with tempfile.TemporaryDirectory(prefix="granum-claims-") as folder:
         with warnings.catch_warnings():   # Python >= 3.12 warns about forking with threads: the child only compiles
             warnings.simplefilter("ignore", DeprecationWarning)
             pid = os.fork()
         if pid == 0:
+            _sharing = folder, lambda: os.getppid() == parent
             status = 1
             try:
                 for k, (d, sigs) in enumerate(todo):
@@ -144,6 +210,7 @@ def _compile_todo(todo: list[tuple[object, list[tuple]]]) -> None:
                 status = 0
             finally:
                 os._exit(status)
+        _sharing = folder, lambda: _running(pid)
         start = time.monotonic()
         try:
             for k, (d, sigs) in enumerate(todo):
@@ -151,6 +218,7 @@ def _compile_todo(todo: list[tuple[object, list[tuple]]]) -> None:
                     compile_each(d, sigs)
             _wait(pid, max(MIN_WAIT, PATIENCE * (time.monotonic() - start)))
         finally:
+            _sharing = None
             _stop(pid)
     for d, sigs in todo:   # the child's parts come from the disk cache (compiled here if it failed)
         compile_each(d, sigs)
@@ -162,6 +230,15 @@ def _fork_is_safe() -> bool:
     waiting for a background ``O.run`` holds none."""
     others = threading.active_count() - 1
     return others == 0 or (others == 1 and threading.current_thread() is not threading.main_thread())
+
+
+def _running(pid: int) -> bool:
+    """Whether child ``pid`` has not exited (an exited child is reaped here: :func:`_wait` and :func:`_stop`
+    allow for that)."""
+    try:
+        return os.waitpid(pid, os.WNOHANG)[0] == 0
+    except ChildProcessError:
+        return False
 
 
 def _wait(pid: int, limit: float) -> None:

@@ -188,7 +188,9 @@ def jit(fn=None, **kw):
     """``numba.njit`` with granum's defaults (on-disk cache, no Python fallback); called from compiled
     code, the function is compiled for canonical argument types and link-only (:mod:`granum._linking`).
     ``inline="always"``: on the fast path, Numba's ``forceinline`` instead, so that LLVM inlines the
-    function into its callers (:mod:`granum._linking`); on the plain path, Numba's inlining.
+    function into its callers (:mod:`granum._linking`); on the plain path, Numba's inlining. ``shared=True``: a
+    function several stages call, compiled as an entry point of its own, once for both processes of a first run
+    (:mod:`granum._linking`, "Shared callees"; on the plain path, an ordinary function as every other).
 
     Division follows IEEE 754 (``error_model="numpy"``: x/0 is inf or NaN, as in C and YADE) instead of
     testing every divisor for zero to raise ZeroDivisionError: 2-4 % of a dense-lattice step. Most
@@ -198,6 +200,7 @@ def jit(fn=None, **kw):
     """
     opts = dict(cache=True, nogil=True, error_model="numpy")
     opts.update(kw)
+    shared = opts.pop("shared", False)
     if not PLAIN and opts.get("inline") == "always":
         # LLVM inlines it where it is linked: typed and lowered once for its argument types instead of once at
         # every call site, as Numba's own inlining does (the plain path keeps Numba's)
@@ -207,7 +210,7 @@ def jit(fn=None, **kw):
     def make(f):
         with _granum_cache():
             dispatcher = njit(**opts)(f)
-        return dispatcher if PLAIN else _linking.install(dispatcher)
+        return dispatcher if PLAIN else _linking.install(dispatcher, shared=shared)
 
     return make if fn is None else make(fn)
 

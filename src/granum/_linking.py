@@ -32,6 +32,13 @@ A callee that already has an ordinary compilation for the same types (it was cal
 Python, or is in the disk cache) is linked from that one instead. Recursion is not supported
 on the link-only path: a function that calls itself is compiled as usual.
 
+**Shared callees.** A function that several stages call (the bodies' motions, the sort of the
+pairs) is declared ``shared`` (:func:`install`): it gets an ordinary compilation, an entry point
+in the disk cache, the first time compiled code calls it, and its callers link that one. While a
+first run's stages are compiled on two processes, it is compiled by one of them only
+(:func:`granum._compile.compile_once`); the other loads it from the cache (Numba keeps a cached
+function's LLVM module with its machine code, for callers to link).
+
 **Calls by symbol.** :func:`entry_call` calls an entry point without linking its library: the
 caller only declares the function, and the JIT resolves the symbol to the machine code already
 loaded. The step loop calls its stages so, and compiles in a fraction of a second instead of
@@ -61,6 +68,8 @@ from numba.core.compiler_lock import global_compiler_lock
 from numba.core.imputils import user_function
 from numba.core.registry import CPUDispatcher
 from numba.extending import intrinsic
+
+from granum import _compile
 
 
 def canonical(t):
@@ -164,9 +173,10 @@ def entry_call(typingctx, fn, args):
     return fndesc.restype(fn, args), codegen
 
 
-def install(dispatcher, canonical_types: bool = True):
+def install(dispatcher, canonical_types: bool = True, shared: bool = False):
     """Give ``dispatcher`` link-only compilation when compiled code calls it, and canonical argument types
-    unless ``canonical_types`` is false."""
+    unless ``canonical_types`` is false; with ``shared``, an ordinary compilation instead, once for both processes
+    of a first run (see "Shared callees" above), and the attribute ``granum_shared`` that says so."""
     link_only: dict = {}      # argument types -> (implementation key, compile result)
     compiling: set = set()
     generic_template = dispatcher.get_call_template
@@ -182,11 +192,15 @@ def install(dispatcher, canonical_types: bool = True):
             if folded in compiling:   # recursion: Numba's own path handles it
                 return generic_template(args, kws)
             if folded not in link_only and not load_cached(dispatcher, folded):
-                compiling.add(folded)
-                try:
-                    link_only[folded] = _compile_link_only(dispatcher, folded)
-                finally:
-                    compiling.discard(folded)
+                if shared:
+                    _compile.compile_once(f"{dispatcher.py_func.__module__}.{dispatcher.py_func.__qualname__}{folded}",
+                                          lambda: dispatcher.compile(folded), lambda: load_cached(dispatcher, folded))
+                else:
+                    compiling.add(folded)
+                    try:
+                        link_only[folded] = _compile_link_only(dispatcher, folded)
+                    finally:
+                        compiling.discard(folded)
             signatures = list(dispatcher.nopython_signatures)
             signatures += [cres.signature for a, (_, cres) in link_only.items() if a not in dispatcher.overloads]
         name = dispatcher.py_func.__name__
@@ -201,6 +215,7 @@ def install(dispatcher, canonical_types: bool = True):
 
     dispatcher.get_call_template = get_call_template
     dispatcher.get_overload = get_overload
+    dispatcher.granum_shared = shared
     return dispatcher
 
 

@@ -69,7 +69,7 @@ SPREAD = 8
 SPREAD_LEFT = 7
 
 
-@jit
+@jit(shared=True)   # the collider's check and the interaction loop both call it: compiled once (granum._linking)
 def motion_block(b, S, nb, motion, spread):
     """Rows of ``motion`` (nb, 4) for the bodies of block ``b``: displacement since the collider ran, less the
     detection's shift (``detect_shift``: zero until :func:`reorigin`), and rotation times reach
@@ -218,7 +218,7 @@ def motion_bound(S, spread):
 REORIGIN_ONE_IN = 4
 
 
-@jit
+@jit(shared=True)   # the collider and the interaction loop both call it: compiled once (granum._linking)
 def reorigin_pair_block(b, S, C, motion):
     """:func:`reorigin` for the pairs of block ``b``: each pair with a finite budget g and reference ``unit ref``
     gets the budget g' = g + |unit ref| - |D - unit ref| (less a rounding allowance) and a zero reference, D the

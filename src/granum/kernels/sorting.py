@@ -59,7 +59,7 @@ def median(values):
     return 0.5 * (lower + upper)
 
 
-@jit
+@jit(shared=True)   # the collider's and the compaction's sort: compiled once (granum._linking)
 def argsort_keys(keys):
     """Indices (int64) that sort the non-negative int64 ``keys``, equal keys in index order (LSD radix sort)."""
     n = keys.shape[0]
