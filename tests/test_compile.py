@@ -284,12 +284,10 @@ def test_a_shared_function_is_compiled_once_for_both_processes(tmp_path):
     """Two parts that call the same shared function, compiled on two processes: one of them compiles it (an entry
     point in the disk cache), the other loads it, and both parts compute with it; on one process it is compiled
     once too."""
-    two = _run(tmp_path / "two", SHARED, GRANUM_COMPILE_JOBS="2")
-    assert "compilings of the shared function: 1" in two
-    assert "values equal NumPy's: True True" in two
-    one = _run(tmp_path / "one", SHARED, GRANUM_COMPILE_JOBS="1")
-    assert "compilings of the shared function: 1" in one
-    assert "values equal NumPy's: True True" in one
+    for jobs in ("2", "1"):
+        out = _run(tmp_path / jobs, SHARED, GRANUM_COMPILE_JOBS=jobs)
+        assert "compilings of the shared function: 1" in out
+        assert "values equal NumPy's: True True" in out
 
 
 @pytest.mark.skipif(sys.platform != "linux", reason="parts are compiled on two processes on Linux only")
