@@ -592,9 +592,15 @@ class NewtonParams(NamedTuple):
 VECTORIZED_BODIES = 1024
 
 
+#: the two values of :attr:`NewtonParams.vectorized` and of :attr:`NewtonParams.aspherical`, made once: the runner
+#: asks for them before every chunk of steps, and a loop of ``O.step()`` makes a chunk of each step
+_VECTORIZED = (Static(("vectorized", False)), Static(("vectorized", True)))
+_ASPHERICAL = (Static(("aspherical", False)), Static(("aspherical", True)))
+
+
 def vectorized(body_count: int) -> Static:
     """:attr:`NewtonParams.vectorized` for a scene of ``body_count`` bodies."""
-    return Static(("vectorized", body_count >= VECTORIZED_BODIES))
+    return _VECTORIZED[bool(body_count >= VECTORIZED_BODIES)]
 
 
 def aspherical_paths(clumps: int, aspherical: np.ndarray) -> Static:
@@ -605,7 +611,7 @@ def aspherical_paths(clumps: int, aspherical: np.ndarray) -> Static:
     stage does, and the runner builds the parameters anew before every chunk of steps and every compiled segment
     of a step run engine by engine. A body made aspherical from another thread while a run goes on turns as a
     sphere until the next chunk (at most ``CHUNK_SECONDS``)."""
-    return Static(("aspherical", clumps > 0 or bool(aspherical.any())))
+    return _ASPHERICAL[bool(clumps > 0 or np.count_nonzero(aspherical))]   # count_nonzero: no ufunc set-up
 
 
 @jit
