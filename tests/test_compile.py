@@ -66,6 +66,21 @@ def part_c(a):
 @jit
 def part_d(a):
     return float(np.argsort(a, kind="mergesort")[0]) + common(a)
+
+
+@jit(shared=True)
+def typed(a):   # called with floats by one part, integers by the other
+    return a.sum()
+
+
+@jit
+def part_e(a):
+    return typed(a) + np.sort(a).sum()
+
+
+@jit
+def part_f(a):
+    return typed(a) + np.cumsum(a)[-1] + 1
 '''
 
 
@@ -243,61 +258,94 @@ from numba.core import event
 import kern
 from granum import _compile, _jit
 a = np.linspace(0.0, 1.0, 7)
+ints = np.arange(7)
 parent = os.getpid()
 
-class Log(event.Listener):   # one line per compiling of the shared function, in either process (at once: the child
+class Log(event.Listener):   # one line per compiling of a shared function, in either process (at once: the child
     def on_start(self, ev):  # leaves without Python's exit handlers)
         pass
     def on_end(self, ev):
-        if ev.data["dispatcher"].py_func.__name__ == "common":
+        name = ev.data["dispatcher"].py_func.__name__
+        if name in ("common", "typed"):
             with open("compiled.txt", "a") as f:
-                f.write(f"{os.getpid()}\\n")
+                f.write(f"{name} {os.getpid()}\\n")
 event.register("numba:compile", Log())
 CHILD_DIES = False
-if CHILD_DIES:   # the parent starts late, and the child dies once it has claimed the shared function
+if CHILD_DIES:   # the child claims the shared function and dies; the parent begins once it has claimed it
     _compile.MIN_WAIT = 600.0
     compile_each = _compile.compile_each
     def late(d, sigs):
         if os.getpid() == parent:
-            time.sleep(3.0)
+            deadline = time.monotonic() + 120.0
+            while not os.path.exists("claimed") and time.monotonic() < deadline:
+                time.sleep(0.01)
         compile_each(d, sigs)
     _compile.compile_each = late
     once = _compile.compile_once
-    def dying(name, compile_here, loaded):
+    def dying(name, compile_here, load_cached):
         def here():
             if os.getpid() != parent:
+                open("claimed", "w").close()
                 os._exit(3)
             compile_here()
-        once(name, here, loaded)
+        return once(name, here, load_cached)
     _compile.compile_once = dying
+    parts = [(kern.part_c, [(a,)]), (kern.part_d, [(a,)])]
+else:   # and two parts that call another shared function with other types each
+    parts = [(kern.part_c, [(a,)]), (kern.part_d, [(a,)]), (kern.part_e, [(a,)]), (kern.part_f, [(ints,)])]
 start = time.monotonic()
-_jit.entry_points([(kern.part_c, [(a,)]), (kern.part_d, [(a,)])])
+_jit.entry_points(parts)
 print("seconds:", time.monotonic() - start)
-print("compilings of the shared function:", len(open("compiled.txt").read().split()))
+print("parts from the cache:", sum(sum(d.stats.cache_hits.values()) for d, _ in parts))
+lines = [line.split() for line in open("compiled.txt").read().splitlines()] if os.path.exists("compiled.txt") else []
+print("compilings of the shared function:", sum(name == "common" for name, _ in lines),
+      "by the parent:", all(int(pid) == parent for name, pid in lines if name == "common"),
+      "entry points:", len(kern.common.overloads))
+os.remove("compiled.txt") if os.path.exists("compiled.txt") else None
 reference = np.sort(a)[-2] + np.cumsum(a)[1]
 print("values equal NumPy's:", kern.part_c(a) == np.median(a) + reference, kern.part_d(a) == reference)
+if not CHILD_DIES:
+    print("other types:", kern.part_e(a) == 2.0 * a.sum(), kern.part_f(ints) == 2 * ints.sum() + 1)
 '''
 
 
 @pytest.mark.skipif(sys.platform != "linux", reason="parts are compiled on two processes on Linux only")
 def test_a_shared_function_is_compiled_once_for_both_processes(tmp_path):
-    """Two parts that call the same shared function, compiled on two processes: one of them compiles it (an entry
-    point in the disk cache), the other loads it, and both parts compute with it; on one process it is compiled
-    once too."""
+    """Parts that call the same shared function, compiled on two processes: one of them compiles it (an entry
+    point in the disk cache), the other loads it, and the parts compute with it; on one process it is an entry
+    point, compiled once, too. Another shared function called with other types in each process (one compiles it
+    link-only, writing nothing to the disk cache) gives the right values, also when loaded again from the cache."""
     for jobs in ("2", "1"):
         out = _run(tmp_path / jobs, SHARED, GRANUM_COMPILE_JOBS=jobs)
+        from_child = int(out.split("parts from the cache: ")[1].split()[0])   # what the parent loaded, the child made
+        assert from_child >= 1 if jobs == "2" else from_child == 0
         assert "compilings of the shared function: 1" in out
+        assert "entry points: 1" in out
         assert "values equal NumPy's: True True" in out
+        assert "other types: True True" in out
+        again = _run(tmp_path / jobs, SHARED, GRANUM_COMPILE_JOBS=jobs)   # everything from the disk cache
+        assert "parts from the cache: 4" in again
+        assert "compilings of the shared function: 0" in again
+        assert "values equal NumPy's: True True" in again
+        assert "other types: True True" in again
 
 
 @pytest.mark.skipif(sys.platform != "linux", reason="parts are compiled on two processes on Linux only")
 def test_a_process_that_dies_compiling_a_shared_function_leaves_it_to_the_other(tmp_path):
     """The child claims the shared function and dies: the parent, which waits for it, sees the child gone and
-    compiles the function itself, long before its patience (600 s here) runs out."""
+    compiles the function itself (link-only: the types it needs are not in the cache), long before its patience
+    (600 s here) runs out."""
     out = _run(tmp_path, SHARED.replace("CHILD_DIES = False", "CHILD_DIES = True"), GRANUM_COMPILE_JOBS="2")
-    assert "compilings of the shared function: 1" in out
+    assert "compilings of the shared function: 1 by the parent: True entry points: 0" in out
     assert "values equal NumPy's: True True" in out
     assert float(out.split("seconds: ")[1].split()[0]) < 300
+
+
+def test_a_shared_function_is_never_inlined():
+    from granum._jit import jit
+
+    with pytest.raises(ValueError, match="a shared function is an entry point of its own, never inlined"):
+        jit(shared=True, inline="always")(lambda x: x)
 
 
 def test_the_second_part_is_one_that_needs_no_shared_function_of_the_first():

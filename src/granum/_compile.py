@@ -13,13 +13,14 @@ compiles what is missing itself, so the outcome never depends on the child. The 
 never write the same cache file: each part is compiled by one of them, and the
 functions below the parts are link-only, never cached on their own
 (:mod:`granum._linking`), but for the few that several stages call (the bodies'
-motions, the sort): each of those is compiled once, by whichever process needs it
-first, as an entry point of its own in the disk cache, and the other process loads
-it (:func:`compile_once`). So that the other process does not need them at the same
-moment, it begins with the largest part that calls none of those the first part calls
-(NewtonIntegrator's stage, while the first compiles the interaction loop's). Forking
-is used on Linux only, with two or more cores, when no other thread runs Python, and
-can be switched off with ``GRANUM_COMPILE_JOBS=1`` (larger values mean 2).
+motions, the sort): each of those is compiled, for whatever types, only by whichever
+process needs it first, as an entry point of its own in the disk cache, and the other
+process loads it (or compiles other types link-only: :func:`compile_once`). So that
+the other process does not need them at the same moment, it begins with the largest
+part that calls none of those the first part calls (NewtonIntegrator's stage, while
+the first compiles the interaction loop's). Forking is used on Linux only, with two or
+more cores, when no other thread runs Python, and can be switched off with
+``GRANUM_COMPILE_JOBS=1`` (larger values mean 2).
 """
 
 from __future__ import annotations
@@ -32,6 +33,7 @@ import sys
 import tempfile
 import threading
 import time
+import types
 import warnings
 
 #: Called as ``done = NOTICE(count)`` before a first run compiles ``count`` entry points that are not in the disk
@@ -71,16 +73,26 @@ def is_granum_dispatcher(value) -> bool:
 
 
 def reached(dispatcher, found: dict | None = None) -> dict:
-    """The granum functions ``dispatcher`` reaches through its globals, itself included (id -> dispatcher)."""
+    """The granum functions ``dispatcher`` reaches through its globals (its nested functions' too), itself
+    included (id -> dispatcher)."""
     found = {} if found is None else found
     if id(dispatcher) not in found:
         found[id(dispatcher)] = dispatcher
         func = dispatcher.py_func
-        for name in func.__code__.co_names:
+        for name in global_names(func.__code__):
             value = func.__globals__.get(name)
             if is_granum_dispatcher(value):
                 reached(value, found)
     return found
+
+
+def global_names(code) -> set[str]:
+    """The names ``code`` and the functions defined in it may read as globals."""
+    names = set(code.co_names)
+    for const in code.co_consts:
+        if isinstance(const, types.CodeType):
+            names |= global_names(const)
+    return names
 
 
 def reach(dispatcher) -> int:
@@ -108,18 +120,23 @@ def ordered(todo: list) -> list:
     return todo
 
 
-def compile_once(name: str, compile_here, loaded) -> None:
-    """``compile_here()`` for a shared function (``name``: it and its argument types, the same in both
-    processes), compiled once while a first run's parts are compiled on two processes: the first process to ask
-    compiles it (an entry point that ``compile_here`` puts in the disk cache); the other waits until it is done,
-    then loads it (``loaded()``: whether it is in the disk cache, loaded now). It compiles it itself if it is not
-    there then, or the first process has gone, or after :data:`MIN_WAIT` seconds. No deadlock: a process waits
-    only while compiling the callers of the function, and the other compiles the function and its callees, never
-    its callers (no recursion on the link-only path)."""
+def compile_once(name: str, compile_here, load_cached) -> bool:
+    """Compile a shared function (``name``: the same in both processes) as an entry point in the disk cache
+    (``compile_here()``) for the types at hand, unless the other process of a first run's parts compiles it:
+    whether it is compiled or loaded now. Outside of a two-process compile, ``compile_here()``.
+
+    While parts are compiled on two processes, the first process to ask for a function claims it, and only it
+    compiles that function, for whatever types it needs (the two never write the same cache file). The other
+    waits until the first is done with its first compilation (or has gone, or :data:`MIN_WAIT` seconds have
+    passed), then loads the types at hand from the disk cache (``load_cached()``: whether they are there, loaded
+    now); when they are not there (other types), False: the caller compiles them link-only, which writes nothing
+    to disk. A process waits only while compiling a caller of the function; the other one, compiling the
+    function, waits in turn only for the functions it calls: no deadlock while shared functions do not call one
+    another in a cycle (granum's do not)."""
     sharing = _sharing
     if sharing is None:
         compile_here()
-        return
+        return True
     folder, other_runs = sharing
     claim = "once-" + hashlib.sha256(name.encode()).hexdigest()[:32]
     done = os.path.join(folder, claim + ".done")
@@ -128,18 +145,16 @@ def compile_once(name: str, compile_here, loaded) -> None:
             compile_here()
         finally:
             os.close(os.open(done, os.O_CREAT | os.O_WRONLY))
-        return
+        return True
     deadline = time.monotonic() + MIN_WAIT
-    while time.monotonic() < deadline and other_runs():
-        if os.path.exists(done):
-            break
+    while not os.path.exists(done) and time.monotonic() < deadline and other_runs():
         time.sleep(0.005)
-    if not loaded():
-        compile_here()
+    return load_cached()
 
 
-def _claim(folder: str, k: int) -> bool:
-    """Take part ``k`` (True once, for whichever process asks first)."""
+def _claim(folder: str, k: int | str) -> bool:
+    """Take part ``k`` or shared function ``k`` (:func:`compile_once`): True once, for whichever process asks
+    first."""
     try:
         os.close(os.open(os.path.join(folder, str(k)), os.O_CREAT | os.O_EXCL | os.O_WRONLY))
         return True
@@ -195,7 +210,7 @@ def _compile_todo(todo: list[tuple[object, list[tuple]]]) -> None:
             compile_each(d, sigs)
         return
     global _sharing
-    parent = os.getpid()
+    outer, parent = _sharing, os.getpid()
     with tempfile.TemporaryDirectory(prefix="granum-claims-") as folder:
         with warnings.catch_warnings():   # Python >= 3.12 warns about forking with threads: the child only compiles
             warnings.simplefilter("ignore", DeprecationWarning)
@@ -218,7 +233,7 @@ def _compile_todo(todo: list[tuple[object, list[tuple]]]) -> None:
                     compile_each(d, sigs)
             _wait(pid, max(MIN_WAIT, PATIENCE * (time.monotonic() - start)))
         finally:
-            _sharing = None
+            _sharing = outer
             _stop(pid)
     for d, sigs in todo:   # the child's parts come from the disk cache (compiled here if it failed)
         compile_each(d, sigs)
@@ -249,7 +264,7 @@ def _wait(pid: int, limit: float) -> None:
             if os.waitpid(pid, os.WNOHANG)[0]:
                 return
             time.sleep(0.02)
-    except ChildProcessError:   # reaped already (SIGCHLD ignored)
+    except ChildProcessError:   # reaped already (by _running, or SIGCHLD ignored)
         return
 
 

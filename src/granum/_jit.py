@@ -201,6 +201,9 @@ def jit(fn=None, **kw):
     opts = dict(cache=True, nogil=True, error_model="numpy")
     opts.update(kw)
     shared = opts.pop("shared", False)
+    if shared and (opts.get("inline") == "always" or opts.get("forceinline")):
+        raise ValueError("jit: a shared function is an entry point of its own, never inlined (shared=True with "
+                         "inline='always')")
     if not PLAIN and opts.get("inline") == "always":
         # LLVM inlines it where it is linked: typed and lowered once for its argument types instead of once at
         # every call site, as Numba's own inlining does (the plain path keeps Numba's)
@@ -307,7 +310,7 @@ def serial_variant(dispatcher, over: frozenset = ITEMS):
             if replaced:
                 options = {k: v for k, v in dispatcher.targetoptions.items() if k != "nopython"}
                 copy = _renamed_copy(dispatcher.py_func, replaced, _variant_suffix(over))
-                _VARIANTS[key] = jit(copy, **options)
+                _VARIANTS[key] = jit(copy, shared=getattr(dispatcher, "granum_shared", False), **options)
         return _VARIANTS[key]
 
 
@@ -350,19 +353,10 @@ def _serial_globals(fn, over: frozenset) -> dict:
 def granum_callees(fn):
     """``(name, value)`` of the globals Python function ``fn`` (its nested functions included) reads that are
     granum's compiled functions or overloaded functions (:func:`overload`)."""
-    for name in _global_names(fn.__code__):
+    for name in _compile.global_names(fn.__code__):
         value = fn.__globals__.get(name)
         if _compile.is_granum_dispatcher(value) or (callable(value) and value in _OVERLOADS):
             yield name, value
-
-
-def _global_names(code) -> set[str]:
-    """The names ``code`` and the functions defined in it may read as globals."""
-    names = set(code.co_names)
-    for const in code.co_consts:
-        if isinstance(const, types.CodeType):
-            names |= _global_names(const)
-    return names
 
 
 @contextlib.contextmanager

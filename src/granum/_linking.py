@@ -37,7 +37,8 @@ pairs) is declared ``shared`` (:func:`install`): it gets an ordinary compilation
 in the disk cache, the first time compiled code calls it, and its callers link that one. While a
 first run's stages are compiled on two processes, it is compiled by one of them only
 (:func:`granum._compile.compile_once`); the other loads it from the cache (Numba keeps a cached
-function's LLVM module with its machine code, for callers to link).
+function's LLVM module with its machine code, for callers to link), or compiles it link-only when
+the types it needs are not there.
 
 **Calls by symbol.** :func:`entry_call` calls an entry point without linking its library: the
 caller only declares the function, and the JIT resolves the symbol to the machine code already
@@ -179,6 +180,7 @@ def install(dispatcher, canonical_types: bool = True, shared: bool = False):
     of a first run (see "Shared callees" above), and the attribute ``granum_shared`` that says so."""
     link_only: dict = {}      # argument types -> (implementation key, compile result)
     compiling: set = set()
+    qualified = f"{dispatcher.py_func.__module__}.{dispatcher.py_func.__qualname__}"   # a shared function's claim
     generic_template = dispatcher.get_call_template
     generic_overload = dispatcher.get_overload
 
@@ -192,10 +194,8 @@ def install(dispatcher, canonical_types: bool = True, shared: bool = False):
             if folded in compiling:   # recursion: Numba's own path handles it
                 return generic_template(args, kws)
             if folded not in link_only and not load_cached(dispatcher, folded):
-                if shared:
-                    _compile.compile_once(f"{dispatcher.py_func.__module__}.{dispatcher.py_func.__qualname__}{folded}",
-                                          lambda: dispatcher.compile(folded), lambda: load_cached(dispatcher, folded))
-                else:
+                if not (shared and _compile.compile_once(qualified, lambda: dispatcher.compile(folded),
+                                                         lambda: load_cached(dispatcher, folded))):
                     compiling.add(folded)
                     try:
                         link_only[folded] = _compile_link_only(dispatcher, folded)
