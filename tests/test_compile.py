@@ -341,11 +341,42 @@ def test_a_process_that_dies_compiling_a_shared_function_leaves_it_to_the_other(
     assert float(out.split("seconds: ")[1].split()[0]) < 300
 
 
+def test_a_shared_function_is_compiled_by_its_claimer_only(tmp_path, monkeypatch):
+    """compile_once on two processes, each side played here with its own set of claims: the claimer compiles every
+    types it needs; the other loads them when they are in the disk cache, else is told to compile them link-only
+    (False), without waiting once the claimer is done, has gone, or after MIN_WAIT."""
+    import time
+
+    from granum import _compile
+
+    compiled = []
+    folder = str(tmp_path)
+    monkeypatch.setattr(_compile, "_sharing", (folder, lambda: True, set()))   # the claimer
+    assert _compile.compile_once("f", lambda: compiled.append("f floats"), lambda: False)
+    assert _compile.compile_once("f", lambda: compiled.append("f ints"), lambda: False)
+    monkeypatch.setattr(_compile, "_sharing", (folder, lambda: True, set()))   # the other process
+    assert _compile.compile_once("f", lambda: compiled.append("f again"), lambda: True)
+    assert not _compile.compile_once("f", lambda: compiled.append("f again"), lambda: False)
+    assert compiled == ["f floats", "f ints"]
+    _compile._claim(folder, _compile.claim_name("g"))   # claimed by a process that never finishes it
+    start = time.monotonic()
+    monkeypatch.setattr(_compile, "_sharing", (folder, lambda: False, set()))   # ... and has gone
+    assert not _compile.compile_once("g", lambda: compiled.append("g"), lambda: False)
+    monkeypatch.setattr(_compile, "_sharing", (folder, lambda: True, set()))    # ... and still runs
+    monkeypatch.setattr(_compile, "MIN_WAIT", 0.3)
+    assert not _compile.compile_once("g", lambda: compiled.append("g"), lambda: False)
+    assert 0.3 <= time.monotonic() - start < 30 and compiled == ["f floats", "f ints"]
+    monkeypatch.setattr(_compile, "_sharing", None)   # one process: compiled here
+    assert _compile.compile_once("g", lambda: compiled.append("g"), lambda: False)
+    assert compiled[-1] == "g"
+
+
 def test_a_shared_function_is_never_inlined():
     from granum._jit import jit
 
-    with pytest.raises(ValueError, match="a shared function is an entry point of its own, never inlined"):
-        jit(shared=True, inline="always")(lambda x: x)
+    for inline in ("always", lambda *args: True):
+        with pytest.raises(ValueError, match="a shared function is an entry point of its own, never inlined"):
+            jit(shared=True, inline=inline)(lambda x: x)
 
 
 def test_the_second_part_is_one_that_needs_no_shared_function_of_the_first():

@@ -49,8 +49,9 @@ _held = threading.local()
 MIN_WAIT = 60.0
 PATIENCE = 3.0
 
-#: While a first run's parts are compiled on two processes: the folder of their claims and a function that says
-#: whether the other process still runs; None otherwise (:func:`compile_once`).
+#: While a first run's parts are compiled on two processes: the folder of their claims, a function that says
+#: whether the other process still runs, and the shared functions this process claimed; None otherwise
+#: (:func:`compile_once`).
 _sharing: tuple | None = None
 
 
@@ -137,10 +138,14 @@ def compile_once(name: str, compile_here, load_cached) -> bool:
     if sharing is None:
         compile_here()
         return True
-    folder, other_runs = sharing
-    claim = "once-" + hashlib.sha256(name.encode()).hexdigest()[:32]
+    folder, other_runs, mine = sharing
+    claim = claim_name(name)
     done = os.path.join(folder, claim + ".done")
+    if claim in mine:   # more types of a function this process claimed
+        compile_here()
+        return True
     if _claim(folder, claim):
+        mine.add(claim)
         try:
             compile_here()
         finally:
@@ -150,6 +155,11 @@ def compile_once(name: str, compile_here, load_cached) -> bool:
     while not os.path.exists(done) and time.monotonic() < deadline and other_runs():
         time.sleep(0.005)
     return load_cached()
+
+
+def claim_name(name: str) -> str:
+    """The claim file of shared function ``name`` (:func:`compile_once`)."""
+    return "once-" + hashlib.sha256(name.encode()).hexdigest()[:32]
 
 
 def _claim(folder: str, k: int | str) -> bool:
@@ -216,7 +226,7 @@ def _compile_todo(todo: list[tuple[object, list[tuple]]]) -> None:
             warnings.simplefilter("ignore", DeprecationWarning)
             pid = os.fork()
         if pid == 0:
-            _sharing = folder, lambda: os.getppid() == parent
+            _sharing = folder, lambda: os.getppid() == parent, set()
             status = 1
             try:
                 for k, (d, sigs) in enumerate(todo):
@@ -225,7 +235,7 @@ def _compile_todo(todo: list[tuple[object, list[tuple]]]) -> None:
                 status = 0
             finally:
                 os._exit(status)
-        _sharing = folder, lambda: _running(pid)
+        _sharing = folder, lambda: _running(pid), set()
         start = time.monotonic()
         try:
             for k, (d, sigs) in enumerate(todo):

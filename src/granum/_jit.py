@@ -201,9 +201,9 @@ def jit(fn=None, **kw):
     opts = dict(cache=True, nogil=True, error_model="numpy")
     opts.update(kw)
     shared = opts.pop("shared", False)
-    if shared and (opts.get("inline") == "always" or opts.get("forceinline")):
-        raise ValueError("jit: a shared function is an entry point of its own, never inlined (shared=True with "
-                         "inline='always')")
+    if shared and (opts.get("inline", "never") != "never" or opts.get("forceinline")):
+        raise ValueError(f"jit: a shared function is an entry point of its own, never inlined (shared=True with "
+                         f"inline={opts.get('inline')!r})")
     if not PLAIN and opts.get("inline") == "always":
         # LLVM inlines it where it is linked: typed and lowered once for its argument types instead of once at
         # every call site, as Numba's own inlining does (the plain path keeps Numba's)
