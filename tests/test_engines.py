@@ -109,6 +109,38 @@ def test_force_engine_gravity_engine_and_dead_engines(yade):
         yade.O.step()
 
 
+def test_engines_changed_between_steps_act_at_the_next_step(yade):
+    """Between two O.step() calls, an engine made dead or alive again, an engine list assigned and a ParallelEngine's
+    slave list changed in place (no attribute assigned) each change what the next step runs: the velocity of a free
+    body gains F/m dt from each force acting in a step, and nothing else acts (no gravity, no damping)."""
+    yade.O.bodies.append(yade.sphere((0, 0, 0), 0.1))
+    m = yade.O.bodies[0].state.mass
+    dt = 1e-3
+    yade.O.dt = dt
+    push = yade.ForceEngine(ids=[0], force=(2, 0, 0))
+    pe = yade.ParallelEngine([yade.ForceEngine(ids=[0], force=(0, 5, 0))])
+    extra = yade.ForceEngine(ids=[0], force=(0, 0, 7))   # made now: making an engine assigns its attributes
+    yade.O.engines = [yade.ForceResetter(), push, pe, yade.NewtonIntegrator(damping=0)]
+    expected = np.zeros(3)
+
+    def step(*forces):
+        yade.O.step()
+        for f in forces:
+            expected[:] += np.asarray(f) / m * dt
+        np.testing.assert_allclose(np.asarray(yade.O.bodies[0].state.vel), expected, rtol=1e-12, atol=0)
+
+    step((2, 0, 0), (0, 5, 0))
+    step((2, 0, 0), (0, 5, 0))
+    push.dead = True
+    step((0, 5, 0))
+    push.dead = False
+    step((2, 0, 0), (0, 5, 0))
+    pe.slaves.append(extra)   # in place: no assignment
+    step((2, 0, 0), (0, 5, 0), (0, 0, 7))
+    yade.O.engines = [yade.ForceResetter(), yade.NewtonIntegrator(damping=0)]
+    step()
+
+
 def test_create_interaction_makes_distant_bodies_interact(yade):
     """utils.createInteraction makes a real interaction at any distance; Cundall-Strack ends it when apart."""
     yade.O.bodies.append([yade.sphere((0, 0, 0), 0.5), yade.sphere((0, 0, 1.2), 0.5)])

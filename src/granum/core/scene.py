@@ -301,7 +301,9 @@ class Scene(BodyStore):
         theirs while the record holds them."""
         b = self.bodies
         self.iscal[SI_NBODIES] = b.count
-        self.contacts = resize_for_bodies(self.contacts, b.count)
+        C = resize_for_bodies(self.contacts, b.count)
+        if C is not self.contacts:   # (assigning contacts makes a new ContactsGeneration: only when they change)
+            self.contacts = C
         mat_kind, mat = self.material_arrays()
         # lazy columns the kernels follow without looking (clump members, aspherical bodies)
         if self.shapes[ShapeKind.CLUMP].count:

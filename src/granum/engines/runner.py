@@ -19,7 +19,7 @@ import time
 import numba
 import numpy as np
 
-from granum._jit import ITEMS, PARALLEL_THRESHOLD, PARALLEL_THRESHOLD_CONTACTS, call
+from granum._jit import ITEMS, PARALLEL_THRESHOLD, PARALLEL_THRESHOLD_CONTACTS, call, entry
 from granum.core import heap
 from granum.core.arrays import SI_HOOK
 from granum.core.attrs import assignments
@@ -33,13 +33,18 @@ from granum.core.contacts import (
 )
 from granum.core.records import Record
 from granum.engines import interrupts
-from granum.engines.base import PeriodicEngine
+from granum.engines.base import Engine, PeriodicEngine
 from granum.engines.status import status_message
 from granum.kernels import steploop
 from granum.kernels.cell import advance_clock, step_begin
 from granum.kernels.newton import first_massless_free_body
 from granum.kernels.static import Static
 from granum.physics import cpm, registry
+
+# numba.get_num_threads() takes a process lock and a thread lock at every call (about 1 us of each O.step());
+# once Numba's threads are launched (granum._jit does that at import) its C function answers alone, for the
+# calling thread as numba.get_num_threads() does
+_thread_count = getattr(numba.np.ufunc.parallel, "_get_num_threads", None) or numba.get_num_threads
 
 #: Longest wall-clock time of one compiled chunk [s].
 CHUNK_SECONDS = 0.25
@@ -92,14 +97,26 @@ class Plan:
         self.python = [e for e in self.live if e.stage is None]
         self.segments = [[e.stage for e in seg] for seg in segments]
         self.key = plan_key(engines)
+        #: whether the engines a step runs follow from the engine list and the engines' declared attributes only
+        #: (their ``dead`` flags: no ParallelEngine, whose slaves' lists could change in place), so that the plan
+        #: is known to hold while the scene keeps the same list and no declared attribute was assigned
+        #: (:meth:`Runner.plan`)
+        self.stamped = all(type(e).in_place is Engine.in_place for e in self.engines)
+        #: the scene's engine list and the :func:`~granum.core.attrs.assignments` stamp this plan was last found
+        #: current for (:meth:`Runner.plan`)
+        self.checked: tuple = (None, None)
         #: the compiled engines with the collider's counters (YADE's numAction, numReinit)
         self.counted = [e for e in self.compiled if "numAction" in e._attrs]
+        #: the compiled engines whose stage may ask for their hook in a slot another one's names
+        #: (:meth:`~granum.engines.base.Engine.hook_due`: the others' is always False)
+        self.hooked = [e for e in self.compiled if type(e).hook_due is not Engine.hook_due]
         #: whether an engine adds bodies during the steps (a class attribute: it cannot change with the plan)
         self.adds_bodies = any(e.adds_bodies for e in self.compiled)
         #: the stages' time array of an untimed chunk (zeros, never written)
         self.untimed = np.zeros((len(self.compiled), 2), np.int64)
         self._loops: dict = {}
         self._type_keys: dict = {}   # id -> (object, type key): see _known_type_key
+        self._last_loop: tuple = (None, None, None, None, None)   # see run_steps
 
     def run_steps(self, nmax: int, segment: int, S, C, PP: tuple, stop_time: float, virt_last: np.ndarray,
                   virt_period: np.ndarray, timing: bool, times: np.ndarray, serial: frozenset = frozenset()):
@@ -114,11 +131,15 @@ class Plan:
         typing. The types of the other arguments never change (the runner passes Python integers, a float,
         1-D float64 arrays, a bool and a 2-D int64 array), so the key is made of those three.
         """
-        key = (self._known_type_key(S), self._known_type_key(C), self._known_type_key(PP)), serial
         args = (int(nmax), int(segment), S, C, PP, float(stop_time), virt_last, virt_period, bool(timing), times)
+        last = self._last_loop   # the last call's: records of the same Numba types (interned) and the same PP
+        if last[0] is S._type and last[1] is C._type and last[2] is PP and last[3] == serial:
+            return last[4](*args)
+        key = (self._known_type_key(S), self._known_type_key(C), self._known_type_key(PP)), serial
         loop = self._loops.get(key)
         if loop is None:
             loop = self._loops[key] = steploop.loop(self.segments, args, serial)
+        self._last_loop = (S._type, C._type, PP, serial, loop)
         return loop(*args)
 
     def _known_type_key(self, value):
@@ -187,13 +208,23 @@ class Runner:
         self._step_seconds = CHUNK_SECONDS
         self._trimmed_at = 0
         self._last_params: tuple | None = None   # see params()
+        self._massless_checks: dict = {}   # record type -> entry point (see _massless_check)
+        self._params_for: tuple = (None, None)   # the plan and the scene_stamp() of the last params()
 
     def plan(self) -> Plan:
+        """The plan of the scene's engine list, made anew when the list or the engines a step runs changed;
+        without comparing the engines while the scene keeps the list object and no declared attribute was
+        assigned since (:attr:`Plan.stamped`; the scene's list is replaced, never changed in place)."""
         engines = self.scene.engines
-        if self._plan is None or self._plan.key != plan_key(engines):
-            self._plan = Plan(engines)
+        plan = self._plan
+        stamp = assignments()
+        if plan is not None and plan.stamped and plan.checked[0] is engines and plan.checked[1] == stamp:
+            return plan
+        if plan is None or plan.key != plan_key(engines):
+            plan = self._plan = Plan(engines)
             self.scene.note_contact_functors()
-        return self._plan
+        plan.checked = (engines, stamp)
+        return plan
 
     def params(self, plan: Plan) -> tuple:
         """The compiled engines' parameters, built anew before every chunk of steps, but for engines whose
@@ -202,11 +233,19 @@ class Runner:
         key is made of edit tokens (:attr:`~granum.engines.base.Engine.key_from_edits`), without computing it
         while :meth:`scene_stamp` stays. When every engine keeps its parameters, so does the tuple of them."""
         out = []
+        scene = self.scene
         stamp = self.scene_stamp()
+        # the same plan and stamp as the last call: an engine keyed by edits whose kept parameters are still this
+        # scene's and plan's kept them through that call, under this stamp, with its plan index (another scene's
+        # runner would have replaced them), so the stamp needs no comparing engine by engine
+        same = self._params_for[0] is plan and self._params_for[1] == stamp
         for k, e in enumerate(plan.compiled):
-            object.__setattr__(e, "_plan_index", k + 1)  # what a stage writes to SI_HOOK to call back
             kept = e.__dict__.get("_params_kept")
-            where = (k, self.scene, plan)   # the scene and the plan compare by identity
+            if same and e.key_from_edits and kept is not None and kept[0][1] is scene and kept[0][2] is plan:
+                out.append(kept[1])
+                continue
+            object.__setattr__(e, "_plan_index", k + 1)  # what a stage writes to SI_HOOK to call back
+            where = (k, scene, plan)   # the scene and the plan compare by identity
             if e.key_from_edits and kept is not None and kept[3] == stamp and kept[0][:3] == where:
                 out.append(kept[1])
                 continue
@@ -224,6 +263,7 @@ class Runner:
             if key is not None:
                 object.__setattr__(e, "_params_kept", (key, p, held, stamp))
             out.append(p)
+        self._params_for = (plan, stamp)
         last = self._last_params
         if last is not None and len(last) == len(out) and all(a is b for a, b in zip(last, out, strict=True)):
             return last   # the same object: the step loop's types are known by its identity (Plan._known_type_key)
@@ -247,10 +287,18 @@ class Runner:
         if i >= 0:
             raise SimulationError(f"body {i} has a CpmMat material but a plain State; the concrete model needs a "
                                   f"CpmState (give it CpmState(), or make it with utils.sphere)")
-        i = call(first_massless_free_body, S)
+        i = self._massless_check(S)(S)
         if i >= 0:
             raise SimulationError(f"body {i} has mass {b.mass[i]} but free translational DOFs; "
                                   f"give it a positive mass (density) or block its DOFs (fixed=True)")
+
+    def _massless_check(self, S):
+        """:func:`~granum.kernels.newton.first_massless_free_body`'s entry point for records of ``S``'s type (a
+        C function that takes the record without Numba's dispatcher typing it: about 1 us of each chunk)."""
+        check = self._massless_checks.get(S._type)
+        if check is None:
+            check = self._massless_checks[S._type] = entry(first_massless_free_body, S)
+        return check
 
     def serial(self, plan: Plan) -> frozenset:
         """Over which items (:data:`granum._jit.ITEMS`) the next chunk of steps of ``plan`` runs the kernels'
@@ -264,7 +312,7 @@ class Runner:
         so the results are the same, and a first run compiles no parallel code over those items. Chosen at each
         chunk (at most :data:`CHUNK_SECONDS`): a scene that outgrows the thresholds during a run is back in
         parallel within one (and has compiled both loops)."""
-        if numba.get_num_threads() == 1:
+        if _thread_count() == 1:
             return ALL_SERIAL
         if plan.adds_bodies:
             return frozenset()
@@ -279,7 +327,7 @@ class Runner:
         """How many whole steps may run compiled before a Python engine could be due."""
         scene = self.scene
         m = limit
-        now = time.time()
+        now = time.time() if plan.python else 0.0
         for e in plan.python:
             if not isinstance(e, PeriodicEngine):
                 return 0
@@ -300,20 +348,9 @@ class Runner:
             self._trimmed_at = scene.body_count
         m = self.steps_allowed(plan, limit)
         if m > 0:
-            virt = [e for e in plan.python if e.virtPeriod > 0 and e.nDone > 0 and not 0 <= e.nDo <= e.nDone]
-            virt_last = np.array([e.virtLast for e in virt])
-            virt_period = np.array([e.virtPeriod for e in virt])
-            timing, times = self.timing(plan)
+            virt_last, virt_period = self.virtual_periods(plan)
             t0 = time.perf_counter()
-            PP = self.params(plan)
-            S = scene.arrays()   # after the parameters: a functor's prepare may add columns (granum.physics.cpm)
-            self.check_scene(S)
-            with interrupts.shielded():   # the contacts go back to the scene whatever Ctrl-C does meanwhile
-                C = scene.contacts_record()
-                done, why = plan.run_steps(m, -1, S, C, PP, float(stop_time), virt_last, virt_period, timing,
-                                           times, serial=self.serial(plan))
-                scene.take_contacts(C)
-            self.sync_counters(plan, timing, times)
+            done, why = self.run_compiled(plan, m, -1, float(stop_time), virt_last, virt_period)
             if done:
                 self._step_seconds = max((time.perf_counter() - t0) / done, 1e-9)
             if why == steploop.WHY_ERROR:
@@ -324,6 +361,33 @@ class Runner:
                 return done
         self.slow_step(plan)
         return 1
+
+    @staticmethod
+    def virtual_periods(plan: Plan) -> tuple[np.ndarray, np.ndarray]:
+        """``virtLast`` and ``virtPeriod`` of the Python engines due by simulated time, which the compiled loop
+        checks at every step (two empty arrays without Python engines)."""
+        if not plan.python:
+            return _NONE, _NONE
+        virt = [e for e in plan.python if e.virtPeriod > 0 and e.nDone > 0 and not 0 <= e.nDo <= e.nDone]
+        return np.array([e.virtLast for e in virt]), np.array([e.virtPeriod for e in virt])
+
+    def run_compiled(self, plan: Plan, nmax: int, segment: int, stop_time: float, virt_last: np.ndarray,
+                     virt_period: np.ndarray) -> tuple[int, int]:
+        """Run :meth:`Plan.run_steps` (whose arguments these are) with the engines' parameters, the scene's record
+        (checked) and its contacts, which go back to the scene whatever Ctrl-C does meanwhile; the stages' counters
+        and times go to their engines. Returns the steps done and why the loop stopped."""
+        scene = self.scene
+        timing, times = self.timing(plan)
+        PP = self.params(plan)
+        S = scene.arrays()   # after the parameters: a functor's prepare may add columns (granum.physics.cpm)
+        self.check_scene(S)
+        with interrupts.shielded():
+            C = scene.contacts_record()
+            out = plan.run_steps(nmax, segment, S, C, PP, stop_time, virt_last, virt_period, timing, times,
+                                 serial=self.serial(plan))
+            scene.take_contacts(C)
+        self.sync_counters(plan, timing, times)
+        return out
 
     def timing(self, plan: Plan) -> tuple[bool, np.ndarray]:
         """Whether stages are timed (``O.timingEnabled``), and the (stages, 2) array they add to (untimed, the
@@ -362,18 +426,10 @@ class Runner:
         scene = self.scene
         kind, item = plan.items[k]
         if kind == "segment":
-            timing, times = self.timing(plan)
-            PP = self.params(plan)
-            S = scene.arrays()   # after the parameters: a functor's prepare may add columns (granum.physics.cpm)
-            self.check_scene(S)
-            with interrupts.shielded():
-                C = scene.contacts_record()
-                plan.run_steps(0, item, S, C, PP, np.inf, _NONE, _NONE, timing, times, serial=self.serial(plan))
-                scene.take_contacts(C)
-            self.sync_counters(plan, timing, times)
+            self.run_compiled(plan, 0, item, np.inf, _NONE, _NONE)
             if scene.contacts.ctr[C_STATUS]:
                 self.raise_status()
-            for e in plan.compiled:   # the Python engines after this segment see what these hooks add
+            for e in plan.hooked:   # the Python engines after this segment see what these hooks add
                 if e.hook_due():
                     e.run_hook(self.omega)
             return
@@ -426,7 +482,7 @@ class Runner:
         if k:
             self.scene.iscal[SI_HOOK] = 0
             plan.compiled[k - 1].run_hook(self.omega)
-        for e in plan.compiled:
+        for e in plan.hooked:
             if e.hook_due():
                 e.run_hook(self.omega)
 
