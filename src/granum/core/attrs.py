@@ -138,6 +138,8 @@ def as_flag(value, what: str) -> bool:
     """``value`` as a bool, or TypeError naming ``what`` ("sphere: fixed"). Accepts True/False (also
     NumPy's) and the integers 0 and 1, as YADE's scripts write them; refuses anything else, such as the
     string ``'no'``, which Python would take as True."""
+    if value is True or value is False:   # first: the body factories check several flags a body
+        return value
     if isinstance(value, bool | np.bool_) or (isinstance(value, numbers.Integral) and value in (0, 1)):
         return bool(value)
     raise TypeError(f"{what} must be True or False, got {value!r}")

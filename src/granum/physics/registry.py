@@ -230,6 +230,7 @@ def register_material(kind: MaterialKind) -> None:
     if kind.parent is not None and kind.parent not in MATERIALS:
         raise KeyError(f"parent material {kind.parent!r} of {kind.name!r} is not registered")
     MATERIALS[kind.name] = kind
+    _ANCESTRY.clear()
     declare_material(kind.name, [kind.columns.get(p.name, p.name) for p in kind.params])
 
 
@@ -334,12 +335,20 @@ def material_code(name: str) -> int:
     return MATERIAL_KINDS.index(name)
 
 
-def material_ancestry(name: str) -> list[str]:
-    """``[name, parent, grandparent, ...]`` of a material class."""
-    out = []
-    while name is not None:
-        out.append(name)
-        name = MATERIALS[name].parent
+#: material_ancestry's answers since the last registration (``utils.sphere()`` asks for every body)
+_ANCESTRY: dict[str, tuple[str, ...]] = {}
+
+
+def material_ancestry(name: str) -> tuple[str, ...]:
+    """``(name, parent, grandparent, ...)`` of a material class."""
+    out = _ANCESTRY.get(name)
+    if out is None:
+        chain = []
+        kind = name
+        while kind is not None:
+            chain.append(kind)
+            kind = MATERIALS[kind].parent
+        out = _ANCESTRY[name] = tuple(chain)
     return out
 
 
