@@ -90,3 +90,29 @@ def test_edits_made_by_a_python_engine_during_a_run_take_effect_at_the_next_step
     assert [c for _, c, _ in log] == [0] * 6 + [1] * 6
     dv = [b - a for (_, _, a), (_, _, b) in zip(log[:-1], log[1:], strict=True)]
     assert dv[:8] == pytest.approx([-10 * O.dt] * 8) and dv[8:] == pytest.approx([-20 * O.dt] * 3)
+
+
+def test_a_chunk_whose_parameters_failed_leaves_none_kept_for_later(yade):
+    """A chunk whose parameters raise (a PeriTriaxController in a scene made aperiodic) may have built some engines'
+    parameters for that scene already: once the scene is periodic again, the collider must pair bodies across the
+    cell's boundary, as the parameters of a periodic scene do (the sphere at x = 0.97 touches the one at x = 0.03
+    through the boundary only)."""
+    O = yade.O
+    O.periodic = True
+    O.cell.setBox(1, 1, 1)
+    O.bodies.append([yade.sphere((0.03, 0.5, 0.5), 0.05), yade.sphere((0.5, 0.5, 0.5), 0.05)])
+    O.engines = [yade.ForceResetter(), yade.InsertionSortCollider([yade.Bo1_Sphere_Aabb()]),
+                 yade.InteractionLoop([yade.Ig2_Sphere_Sphere_ScGeom()], [yade.Ip2_FrictMat_FrictMat_FrictPhys()],
+                                      [yade.Law2_ScGeom_FrictPhys_CundallStrack()]),
+                 yade.PeriTriaxController(goal=(0, 0, 0), stressMask=7, maxUnbalanced=0.1),
+                 yade.NewtonIntegrator(damping=0)]
+    O.dt = 1e-6
+    O.step()
+    assert O.interactions.countReal() == 0
+    O.periodic = False
+    with pytest.raises(RuntimeError, match="periodic"):
+        O.step()
+    O.periodic = True
+    O.bodies[1].state.pos = (0.97, 0.5, 0.5)
+    O.step()
+    assert O.interactions.countReal() == 1

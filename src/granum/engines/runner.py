@@ -235,13 +235,17 @@ class Runner:
         out = []
         scene = self.scene
         stamp = self.scene_stamp()
-        # the same plan and stamp as the last call: an engine keyed by edits whose kept parameters are still this
-        # scene's and plan's kept them through that call, under this stamp, with its plan index (another scene's
-        # runner would have replaced them), so the stamp needs no comparing engine by engine
+        # the same plan and stamp as the last call that went through: an engine keyed by edits whose kept parameters
+        # are still this scene's and plan's, at its place, kept them through that call, under this stamp, with its
+        # plan index (another scene's runner would have replaced them), so the stamp needs no comparing engine by
+        # engine. Forgotten until this call ends: one that raises may have kept some engines' parameters under its
+        # own stamp, which a scene value changed back would make look current
         same = self._params_for[0] is plan and self._params_for[1] == stamp
+        self._params_for = (None, None)
         for k, e in enumerate(plan.compiled):
             kept = e.__dict__.get("_params_kept")
-            if same and e.key_from_edits and kept is not None and kept[0][1] is scene and kept[0][2] is plan:
+            if (same and e.key_from_edits and kept is not None and kept[0][0] == k and kept[0][1] is scene
+                    and kept[0][2] is plan):
                 out.append(kept[1])
                 continue
             object.__setattr__(e, "_plan_index", k + 1)  # what a stage writes to SI_HOOK to call back
