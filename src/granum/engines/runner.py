@@ -209,7 +209,7 @@ class Runner:
         self._trimmed_at = 0
         self._last_params: tuple | None = None   # see params()
         self._massless_checks: dict = {}   # record type -> entry point (see _massless_check)
-        self._params_for: tuple = (None, None)   # the plan and the scene_stamp() of the last params()
+        self._params_for: tuple = (None, None)   # the plan and the scene_stamp() of the last params() that ended
 
     def plan(self) -> Plan:
         """The plan of the scene's engine list, made anew when the list or the engines a step runs changed;

@@ -36,7 +36,7 @@ from __future__ import annotations
 import hashlib
 import inspect
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -371,7 +371,8 @@ def _type_ancestry(table: dict, name: str) -> list[str]:
     return out
 
 
-def best_match(candidates: list[Functor], chain_a: list[str], chain_b: list[str]) -> tuple[Functor | None, bool]:
+def best_match(candidates: list[Functor], chain_a: Sequence[str],
+               chain_b: Sequence[str]) -> tuple[Functor | None, bool]:
     """The functor whose two dispatch types are closest to (a, b) in the hierarchy.
 
     ``chain_a``/``chain_b`` are the ancestries of the two actual types. Returns
