@@ -49,7 +49,7 @@ def served(tmp_path_factory):
     # one packing and one set of colours in every run: the tutorial's makeCloud draws its seed from the system's
     # entropy and its spheres' colours from utils' generator, and the pictures compared below are of them (a
     # clip-plane comparison once fell 0.3 % under its threshold on another packing)
-    randbits, pack.secrets = pack.secrets, types.SimpleNamespace(randbits=lambda k: 20261207)
+    entropy, pack.secrets = pack.secrets, types.SimpleNamespace(randbits=lambda k: 20261207)
     utils._rng.seed(20261207)
     try:
         cli.run_script(str(TUTORIAL), [])
@@ -57,7 +57,7 @@ def served(tmp_path_factory):
         os.chdir(saved[3])
         raise
     finally:
-        pack.secrets = randbits
+        pack.secrets = entropy
         sys.argv[:], sys.path[:] = saved[0], saved[1]
         sys.modules["__main__"] = saved[2]
     yield session, O   # still in the temporary folder: the tests' runs write the tutorial's files there too

@@ -331,7 +331,7 @@ class Runner:
         """How many whole steps may run compiled before a Python engine could be due."""
         scene = self.scene
         m = limit
-        now = time.time() if plan.python else 0.0
+        now = time.time()
         for e in plan.python:
             if not isinstance(e, PeriodicEngine):
                 return 0
