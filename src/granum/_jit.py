@@ -378,11 +378,12 @@ _warm: set[int] = set()
 
 
 def _compiled(fn, args) -> tuple:
-    """Compile ``fn`` for the types of ``args`` (or load it from the cache) under :func:`compile_lock`, unless
-    it is compiled already; the argument types. Only the compilation holds the lock: a long first call must
-    not keep other processes (the jobs of a batch) from running their own kernels."""
+    """Load ``fn`` for the types of ``args`` from the cache, or compile it under :func:`compile_lock`, unless it
+    is compiled already; the argument types. Only the compilation holds the lock: a long first call must not
+    keep other processes (the jobs of a batch) from running their own kernels. On the fast path the cache is
+    read without the context refresh only compiling needs (:func:`granum._linking.load_cached`)."""
     sig = tuple(fn.typeof_pyval(a) for a in args)
-    if sig not in fn.overloads:
+    if sig not in fn.overloads and (PLAIN or not _linking.load_cached(fn, sig)):
         with compile_lock():
             fn.compile(sig)
     return sig

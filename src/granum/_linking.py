@@ -64,10 +64,12 @@ from __future__ import annotations
 from numba import types
 from numba.core import cgutils, compiler, errors, sigutils, typing
 from numba.core import event as numba_event
+from numba.core.caching import FunctionCache
 from numba.core.codegen import JITCodeLibrary
 from numba.core.compiler_lock import global_compiler_lock
 from numba.core.imputils import user_function
 from numba.core.registry import CPUDispatcher
+from numba.core.runtime.nrt import rtsys
 from numba.extending import intrinsic
 
 from granum import _compile
@@ -139,13 +141,35 @@ def load_cached(dispatcher, args: tuple) -> bool:
     with global_compiler_lock:
         if args in dispatcher.overloads:
             return True
-        cres = dispatcher._cache.load_overload(args, dispatcher.targetctx)
+        cres = _load_from_cache(dispatcher, args)
         if cres is None:
             return False
         dispatcher._cache_hits[args] += 1
         dispatcher.targetctx.insert_user_function(cres.entry_point, cres.fndesc, [cres.library])
         dispatcher.add_overload(cres)
         return True
+
+
+def _load_from_cache(dispatcher, args: tuple):
+    """``dispatcher``'s compilation for argument types ``args`` from its disk cache, or None.
+
+    Numba's ``FunctionCache.load_overload`` refreshes the target context first: the first time in a process it
+    imports all of Numba's lowering modules and installs their registries, 0.24-0.30 s of a cached start's
+    1 s (2-core AMD EPYC, 2026-12-08), which only compiling needs (Numba's compiler refreshes the context itself).
+    Machine code loaded from the cache needs the symbols it refers to: the runtime's (NRT, initialised here), the
+    hash secret's (added to LLVM's table when ``numba.cpython.hashing`` is imported), Numba's C helpers and math
+    functions (added when the target context is made) and the parallel loops' (when the thread pool starts,
+    at :mod:`granum._jit`'s import)."""
+    context = dispatcher.targetctx
+    rtsys.initialize(context)
+    import numba.cpython.hashing  # noqa: F401  (for its symbols, above)
+
+    cache = dispatcher._cache
+    if not isinstance(cache, FunctionCache):   # a function compiled without a disk cache
+        return None
+    with cache._guard_against_spurious_io_errors():   # as Numba reads it (Windows: a file being replaced)
+        return cache._load_overload(args, context)
+    return None
 
 
 def entry_symbol(dispatcher, args: tuple) -> str:
@@ -321,7 +345,11 @@ INTERNALS = (
     "dispatcher._compiler._customize_flags",
     "dispatcher._compiler.pipeline_class",
     "dispatcher._compiler.fold_argument_types",
-    "numba.core.caching.FunctionCache.load_overload",
+    "numba.core.caching.FunctionCache._load_overload",
+    "numba.core.caching.FunctionCache._guard_against_spurious_io_errors",
+    "numba.core.runtime.nrt.rtsys.initialize",
+    "numba.cpython.hashing",
+    "dispatcher._cache",
     "dispatcher._cache_hits",
     "dispatcher.add_overload",
     "dispatcher.get_call_template",
