@@ -126,6 +126,58 @@ def test_link_only_callees_print_raise_and_are_cached_inside_their_entry_point(t
     assert "outer compiled: 1 loaded from the cache: 1" in second
 
 
+RUNTIME_NEEDS = '''
+import math
+import numpy as np
+from granum._jit import jit, prange
+
+
+@jit(parallel=True)
+def runtime_needs(a, word):
+    # what machine code calls into: the runtime's allocation (NRT), a maths function, a parallel loop (the thread
+    # pool's scheduler), a string's hash (the hash secret's symbols), an exception with values (Numba's helpers)
+    if a.shape[0] == 0:
+        raise ValueError("empty", a.shape[0])
+    out = np.empty(a.shape[0])
+    for k in prange(a.shape[0]):
+        out[k] = math.sqrt(a[k])
+    return out.sum(), hash(word)
+'''
+
+CACHED_CALL = '''
+import numpy as np
+from numba.core.registry import cpu_target
+import kern
+from granum import _jit
+refreshes = []
+context = cpu_target.target_context
+refresh = context.refresh
+context.refresh = lambda: (refreshes.append(1), refresh())[1]
+total, word_hash = _jit.call(kern.runtime_needs, np.arange(1.0, 5.0), "granum")
+print("sum", repr(total), "hash as Python's:", word_hash == hash("granum"))
+try:
+    _jit.call(kern.runtime_needs, np.empty(0), "granum")
+except ValueError as e:
+    print("raised", e.args)
+print("loaded from the cache:", sum(kern.runtime_needs.stats.cache_hits.values()))
+print("context refreshed:", bool(refreshes))
+'''
+
+
+def test_code_loaded_from_the_cache_runs_without_refreshing_numbas_context(tmp_path):
+    """granum loads cached machine code without refreshing Numba's target context (importing Numba's lowering
+    modules, which only compiling needs: a quarter of a cached start). The code loaded so still finds what it
+    calls into: the runtime's allocation, a maths function, a parallel loop, a string's hash, an exception's
+    values; the same values as when it was compiled, and a missing symbol would have ended the process."""
+    first = _run(tmp_path, CACHED_CALL, module=RUNTIME_NEEDS)
+    second = _run(tmp_path, CACHED_CALL, module=RUNTIME_NEEDS)
+    expected = f"sum {sum(math.sqrt(k) for k in range(1, 5))!r} hash as Python's: True\nraised ('empty', 0)\n"
+    for out in (first, second):
+        assert expected in out
+    assert "loaded from the cache: 0\ncontext refreshed: True" in first
+    assert "loaded from the cache: 1\ncontext refreshed: False" in second
+
+
 SPREAD = '''
 
 @jit{options}
