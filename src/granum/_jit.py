@@ -410,15 +410,18 @@ def entry_points(calls) -> list[str]:
     the disk cache on two processes (:mod:`granum._compile`); their symbols, for callers that call them by
     symbol (:func:`granum._linking.entry_call`). On the plain path, this process compiles them one by one
     (their callees are cached with each of them: two processes would write the same cache files), and there
-    are no symbols to call them by (an empty list)."""
+    are no symbols to call them by (an empty list). Parts all found in memory or in the cache are loaded without
+    the compile lock, as :func:`_compiled` does: a cached start does not wait for another process's compiling."""
     parts = [(d, [tuple(d.typeof_pyval(a) for a in values) for values in argument_lists])
              for d, argument_lists in calls]
-    with compile_lock():
-        if PLAIN:
+    if PLAIN:
+        with compile_lock():
             for d, sigs in parts:
                 _compile.compile_each(d, sigs)
-            return []
-        _compile.compile_parts(parts, _linking.load_cached)
+        return []
+    if not all(_linking.load_cached(d, sig) for d, sigs in parts for sig in sigs):
+        with compile_lock():
+            _compile.compile_parts(parts, _linking.load_cached)
     return [_linking.entry_symbol(d, sig) for d, sigs in parts for sig in sigs]
 
 
