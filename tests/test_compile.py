@@ -84,7 +84,7 @@ def part_f(a):
 '''
 
 
-def _run(folder, script: str, module: str = KERNELS, **env) -> str:
+def _run(folder, script: str, module: str = KERNELS, timeout: float = 600, **env) -> str:
     """Run ``script`` in ``folder`` (created) with ``module`` (the one above unless said) importable as ``kern``
     and a cache directory of its own, on the fast compile path whatever the suite's (these tests are the fast
     path's: the suite also runs with GRANUM_COMPILE=fallback); its standard output."""
@@ -93,7 +93,7 @@ def _run(folder, script: str, module: str = KERNELS, **env) -> str:
         (folder / "kern.py").write_text(module)
     environ = {**os.environ, "GRANUM_COMPILE": "auto", "GRANUM_CACHE_DIR": str(folder / "cache"), **env}
     out = subprocess.run([sys.executable, "-c", textwrap.dedent(script)], cwd=folder, env=environ, check=True,
-                         capture_output=True, text=True, timeout=600)
+                         capture_output=True, text=True, timeout=timeout)
     return out.stdout
 
 
@@ -292,6 +292,19 @@ def test_parts_compiled_by_a_second_process_are_loaded_from_the_cache(tmp_path):
     one = _run(tmp_path / "one", PARTS, GRANUM_COMPILE_JOBS="1")
     assert "parts from the cache: 0" in one
     assert "value equals NumPy's: True" in one
+
+
+def test_parts_in_the_cache_load_while_another_process_holds_the_compile_lock(tmp_path):
+    """A process whose parts are all in the disk cache loads them without the compile lock, which another process
+    holds while it compiles (a job of a batch, a test run beside a script); it waited for that compiling before."""
+    import filelock
+
+    _run(tmp_path, PARTS)   # the parts compiled into the cache
+    (lock,) = tmp_path.glob("cache/*/compile.lock")
+    with filelock.FileLock(lock):   # held until the process ends: one that waited for it would time out
+        again = _run(tmp_path, PARTS, timeout=180)
+    assert "parts from the cache: 2" in again
+    assert "value equals NumPy's: True" in again
 
 
 @pytest.mark.skipif(sys.platform != "linux", reason="parts are compiled on two processes on Linux only")
