@@ -294,6 +294,63 @@ def test_parts_compiled_by_a_second_process_are_loaded_from_the_cache(tmp_path):
     assert "value equals NumPy's: True" in one
 
 
+#: A Numba extension (found through its ``numba_extensions`` entry point) whose init hook adds the symbol of a C
+#: function its overload calls, and a kernel that calls it.
+EXTENSION = {
+    "target_mod.py": "def special(x):\n    return abs(x)\n",
+    "fakeext.py": '''
+import ctypes
+import llvmlite.binding as ll
+from llvmlite import ir
+from numba.core import cgutils, types
+from numba.extending import intrinsic, overload
+import target_mod
+
+
+@intrinsic
+def _c_labs(typingctx, x):
+    def codegen(context, builder, sig, args):
+        fnty = ir.FunctionType(ir.IntType(64), [ir.IntType(64)])
+        return builder.call(cgutils.get_or_insert_function(builder.module, fnty, "fakeext_labs"), args)
+    return types.int64(types.int64), codegen
+
+
+@overload(target_mod.special)
+def _special(x):
+    return lambda x: _c_labs(x)
+
+
+def init():
+    ll.add_symbol("fakeext_labs", ctypes.cast(ctypes.CDLL(None).labs, ctypes.c_void_p).value)
+''',
+    "fakeext-0.1.dist-info/METADATA": "Metadata-Version: 2.1\nName: fakeext\nVersion: 0.1\n",
+    "fakeext-0.1.dist-info/entry_points.txt": "[numba_extensions]\ninit = fakeext:init\n",
+}
+
+EXTENDED = '''
+import target_mod
+from granum._jit import jit
+
+
+@jit
+def extended(x):
+    return target_mod.special(x)
+'''
+
+
+def test_code_loaded_from_the_cache_finds_the_symbols_of_numbas_extensions(tmp_path):
+    """A kernel calling a Numba extension's C function (a user's law may) runs again from the cache: the
+    extensions' init hooks, which add their symbols, run before granum loads cached code (Numba runs them before
+    it compiles; without them the second process ended on an unresolved symbol)."""
+    site = tmp_path / "site"
+    for name, text in EXTENSION.items():
+        (site / name).parent.mkdir(parents=True, exist_ok=True)
+        (site / name).write_text(text)
+    script = "import kern\nfrom granum import _jit\nprint('value', _jit.call(kern.extended, -7))\n"
+    for _ in range(2):   # compiled, then loaded from the cache
+        assert "value 7" in _run(tmp_path / "run", script, module=EXTENDED, PYTHONPATH=str(site))
+
+
 def test_parts_in_the_cache_load_while_another_process_holds_the_compile_lock(tmp_path):
     """A process whose parts are all in the disk cache loads them without the compile lock, which another process
     holds while it compiles (a job of a batch, a test run beside a script); it waited for that compiling before."""

@@ -62,7 +62,7 @@ changes Numba's behaviour until :func:`enable` is called.
 from __future__ import annotations
 
 from numba import types
-from numba.core import cgutils, compiler, errors, sigutils, typing
+from numba.core import cgutils, compiler, entrypoints, errors, sigutils, typing
 from numba.core import event as numba_event
 from numba.core.caching import FunctionCache
 from numba.core.codegen import JITCodeLibrary
@@ -156,20 +156,27 @@ def _load_from_cache(dispatcher, args: tuple):
     Numba's ``FunctionCache.load_overload`` refreshes the target context first: the first time in a process it
     imports all of Numba's lowering modules and installs their registries, 0.24-0.30 s of a cached start's
     1 s (2-core AMD EPYC, 2026-12-08), which only compiling needs (Numba's compiler refreshes the context itself).
-    Machine code loaded from the cache needs the symbols it refers to: the runtime's (NRT, initialised here), the
-    hash secret's (added to LLVM's table when ``numba.cpython.hashing`` is imported), Numba's C helpers and math
-    functions (added when the target context is made) and the parallel loops' (when the thread pool starts,
-    at :mod:`granum._jit`'s import)."""
+    Machine code loaded from the cache needs the symbols it refers to: the runtime's (NRT, initialised here),
+    those of Numba's extensions (a user's law may call one: their init hooks run here, as Numba runs them before
+    it compiles), the hash secret's (added to LLVM's table when ``numba.cpython.hashing`` is imported), Numba's C
+    helpers and math functions (added when the target context is made) and the parallel loops' (when the thread
+    pool starts, at :mod:`granum._jit`'s import).
+
+    It is read without the compile lock, as Numba reads its cache. Numba writes an entry's index before its data:
+    a reader between the two, while a writer replaces a stale index, can find the data file of an older entry;
+    one compiled for other argument types is a miss here (the caller then compiles under the lock)."""
     context = dispatcher.targetctx
     rtsys.initialize(context)
+    entrypoints.init_all()
     import numba.cpython.hashing  # noqa: F401  (for its symbols, above)
 
     cache = dispatcher._cache
     if not isinstance(cache, FunctionCache):   # a function compiled without a disk cache
         return None
+    cres = None
     with cache._guard_against_spurious_io_errors():   # as Numba reads it (Windows: a file being replaced)
-        return cache._load_overload(args, context)
-    return None
+        cres = cache._load_overload(args, context)
+    return cres if cres is not None and tuple(cres.signature.args) == tuple(args) else None
 
 
 def entry_symbol(dispatcher, args: tuple) -> str:
@@ -349,6 +356,7 @@ INTERNALS = (
     "numba.core.caching.FunctionCache._guard_against_spurious_io_errors",
     "numba.core.runtime.nrt.rtsys.initialize",
     "numba.cpython.hashing",
+    "numba.core.entrypoints.init_all",
     "dispatcher._cache",
     "dispatcher._cache_hits",
     "dispatcher.add_overload",
