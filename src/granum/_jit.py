@@ -29,6 +29,7 @@
 from __future__ import annotations
 
 import contextlib
+import functools
 import hashlib
 import os
 import pathlib
@@ -377,15 +378,38 @@ def compile_lock():
 _warm: set[int] = set()
 
 
+@functools.cache
+def _source_keyed(filename: str) -> bool:
+    """Whether the compiled functions of source file ``filename`` are cached in a folder keyed by their source:
+    one of :data:`KERNEL_SOURCES`, or a module generated in :data:`CACHE_DIR`. Their cache entries are never
+    replaced while another process may read them (an edited kernel source gets a new folder; a generated module
+    is rewritten only when its text changes), so they are read without the compile lock. Numba writes an entry's
+    index before its data: an edited file of another function (YADE's packing helpers, a user's module) can
+    leave an index pointing at old data for a moment, so those are read under the lock."""
+    path = pathlib.Path(filename).resolve()
+    if path.is_relative_to(CACHE_DIR.resolve()):
+        return True
+    return path.is_relative_to(_PKG) and path.relative_to(_PKG).parts[0] in KERNEL_SOURCES
+
+
+def _read_unlocked(fn, sig) -> bool:
+    """Whether ``fn`` for argument types ``sig`` is in memory, or was read now from its disk cache without the
+    compile lock (:func:`_source_keyed`; the fast path only)."""
+    return sig in fn.overloads or (not PLAIN and _source_keyed(fn.py_func.__code__.co_filename)
+                                   and _linking.load_cached(fn, sig))
+
+
 def _compiled(fn, args) -> tuple:
     """Load ``fn`` for the types of ``args`` from the cache, or compile it under :func:`compile_lock`, unless it
-    is compiled already; the argument types. Only the compilation holds the lock: a long first call must not
-    keep other processes (the jobs of a batch) from running their own kernels. On the fast path the cache is
-    read without the context refresh only compiling needs (:func:`granum._linking.load_cached`)."""
+    is compiled already; the argument types. Where an entry may be read without the lock, only compiling holds
+    it (:func:`_read_unlocked`): a long first call must not keep other processes (the jobs of a batch, a cached
+    start) from reading their own kernels. On the fast path the cache is read without the context refresh only
+    compiling needs (:func:`granum._linking.load_cached`)."""
     sig = tuple(fn.typeof_pyval(a) for a in args)
-    if sig not in fn.overloads and (PLAIN or not _linking.load_cached(fn, sig)):
+    if not _read_unlocked(fn, sig):
         with compile_lock():
-            fn.compile(sig)
+            if PLAIN or not _linking.load_cached(fn, sig):
+                fn.compile(sig)
     return sig
 
 
@@ -410,8 +434,9 @@ def entry_points(calls) -> list[str]:
     the disk cache on two processes (:mod:`granum._compile`); their symbols, for callers that call them by
     symbol (:func:`granum._linking.entry_call`). On the plain path, this process compiles them one by one
     (their callees are cached with each of them: two processes would write the same cache files), and there
-    are no symbols to call them by (an empty list). Parts all found in memory or in the cache are loaded without
-    the compile lock, as :func:`_compiled` does: a cached start does not wait for another process's compiling."""
+    are no symbols to call them by (an empty list). Parts all found in memory or read from the cache without the
+    compile lock (:func:`_read_unlocked`) need no lock: a cached start does not wait for another process's
+    compiling."""
     parts = [(d, [tuple(d.typeof_pyval(a) for a in values) for values in argument_lists])
              for d, argument_lists in calls]
     if PLAIN:
@@ -419,7 +444,7 @@ def entry_points(calls) -> list[str]:
             for d, sigs in parts:
                 _compile.compile_each(d, sigs)
         return []
-    if not all(_linking.load_cached(d, sig) for d, sigs in parts for sig in sigs):
+    if not all(_read_unlocked(d, sig) for d, sigs in parts for sig in sigs):
         with compile_lock():
             _compile.compile_parts(parts, _linking.load_cached)
     return [_linking.entry_symbol(d, sig) for d, sigs in parts for sig in sigs]

@@ -162,9 +162,10 @@ def _load_from_cache(dispatcher, args: tuple):
     helpers and math functions (added when the target context is made) and the parallel loops' (when the thread
     pool starts, at :mod:`granum._jit`'s import).
 
-    It is read without the compile lock, as Numba reads its cache. Numba writes an entry's index before its data:
-    a reader between the two, while a writer replaces a stale index, can find the data file of an older entry;
-    one compiled for other argument types is a miss here (the caller then compiles under the lock)."""
+    Numba writes an entry's index before its data: a reader between the two, while a writer replaces a stale
+    index, can find the data file of an older entry. One compiled for other argument types is a miss here; the
+    callers read without the compile lock only the entries that are never replaced so
+    (:func:`granum._jit._read_unlocked`)."""
     context = dispatcher.targetctx
     rtsys.initialize(context)
     entrypoints.init_all()
