@@ -382,8 +382,8 @@ _warm: set[int] = set()
 def _source_keyed(filename: str) -> bool:
     """Whether the compiled functions of source file ``filename`` are cached in a folder keyed by their source:
     one of :data:`KERNEL_SOURCES`, or a module generated in :data:`CACHE_DIR`. Their cache entries are never
-    replaced while another process may read them (an edited kernel source gets a new folder; a generated module
-    is rewritten only when its text changes), so they are read without the compile lock. Numba writes an entry's
+    replaced while another process may read them (an edited kernel source gets a new folder; a generated module's
+    file is named by the hash of its text), so they are read without the compile lock. Numba writes an entry's
     index before its data: an edited file of another function (YADE's packing helpers, a user's module) can
     leave an index pointing at old data for a moment, so those are read under the lock."""
     path = pathlib.Path(filename).resolve()

@@ -70,6 +70,7 @@ from numba.core.compiler_lock import global_compiler_lock
 from numba.core.imputils import user_function
 from numba.core.registry import CPUDispatcher
 from numba.core.runtime.nrt import rtsys
+from numba.cpython import hashing  # noqa: F401  (its import adds the hash secret's symbols: _load_from_cache)
 from numba.extending import intrinsic
 
 from granum import _compile
@@ -158,9 +159,9 @@ def _load_from_cache(dispatcher, args: tuple):
     1 s (2-core AMD EPYC, 2026-12-08), which only compiling needs (Numba's compiler refreshes the context itself).
     Machine code loaded from the cache needs the symbols it refers to: the runtime's (NRT, initialised here),
     those of Numba's extensions (a user's law may call one: their init hooks run here, as Numba runs them before
-    it compiles), the hash secret's (added to LLVM's table when ``numba.cpython.hashing`` is imported), Numba's C
-    helpers and math functions (added when the target context is made) and the parallel loops' (when the thread
-    pool starts, at :mod:`granum._jit`'s import).
+    it compiles), the hash secret's (added to LLVM's table when ``numba.cpython.hashing`` is imported: at this
+    module's import), Numba's C helpers and math functions (added when the target context is made) and the
+    parallel loops' (when the thread pool starts, at :mod:`granum._jit`'s import).
 
     Numba writes an entry's index before its data: a reader between the two, while a writer replaces a stale
     index, can find the data file of an older entry. One compiled for other argument types is a miss here; the
@@ -169,8 +170,6 @@ def _load_from_cache(dispatcher, args: tuple):
     context = dispatcher.targetctx
     rtsys.initialize(context)
     entrypoints.init_all()
-    import numba.cpython.hashing  # noqa: F401  (for its symbols, above)
-
     cache = dispatcher._cache
     if not isinstance(cache, FunctionCache):   # a function compiled without a disk cache
         return None
